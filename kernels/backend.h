@@ -1,0 +1,74 @@
+// tear: the one header that owns the differences between the two backends.
+//
+// Kernels are written once, as TEAR_HD functors over raw pointers, and launched through Thrust
+// algorithms with the execution policy of a backend system: Thrust's CUDA system on the GPU,
+// its OpenMP system on the CPU. Stage code is templated on the system tag and never tests
+// __CUDACC__ itself.
+#pragma once
+
+#include <thrust/detail/config.h>
+#include <thrust/system/omp/execution_policy.h>
+#include <thrust/system/omp/vector.h>
+
+#include "systems.h"
+
+#if TEAR_WITH_CUDA && defined(__CUDACC__)
+#include <thrust/system/cuda/execution_policy.h>
+#include <thrust/system/cuda/vector.h>
+#define TEAR_CUDA_SYSTEM 1
+#else
+#define TEAR_CUDA_SYSTEM 0
+#endif
+
+// Thrust defines __host__ and __device__ (empty for a host compiler); never redefine them.
+#define TEAR_HD __host__ __device__
+
+namespace tear::kernels {
+/// True for a finite float, on host and device alike (x - x is NaN for NaN and infinities).
+TEAR_HD inline bool is_finite(float x) { return x - x == 0.0f; }
+}  // namespace tear::kernels
+
+namespace tear::backend {
+
+template <class System>
+struct Traits;
+
+template <>
+struct Traits<Omp> {
+  template <class T>
+  using vector = thrust::omp::vector<T>;
+  static auto policy() { return thrust::omp::par; }
+};
+
+#if TEAR_CUDA_SYSTEM
+template <>
+struct Traits<Cuda> {
+  template <class T>
+  using vector = thrust::cuda::vector<T>;
+  static auto policy() { return thrust::cuda::par; }
+};
+#endif
+
+template <class System, class T>
+using vector = typename Traits<System>::template vector<T>;
+
+template <class T, class Vector>
+T* raw(Vector& v) {
+  return thrust::raw_pointer_cast(v.data());
+}
+template <class T, class Vector>
+const T* raw(const Vector& v) {
+  return thrust::raw_pointer_cast(v.data());
+}
+
+}  // namespace tear::backend
+
+/// Instantiates `MACRO(System)` for every system this translation unit can run: the OpenMP
+/// system always, the CUDA system in a CUDA build.
+#if TEAR_CUDA_SYSTEM
+#define TEAR_FOR_EACH_SYSTEM(MACRO) \
+  MACRO(::tear::backend::Omp)       \
+  MACRO(::tear::backend::Cuda)
+#else
+#define TEAR_FOR_EACH_SYSTEM(MACRO) MACRO(::tear::backend::Omp)
+#endif

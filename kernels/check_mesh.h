@@ -1,0 +1,130 @@
+// tear kernels: per-element checks of validate_mesh; each returns 1 for a bad element, so a
+// plain integer reduction counts them.
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "backend.h"
+
+namespace tear::kernels {
+
+using index_t = std::int32_t;
+
+struct face_index_out_of_range {
+  const index_t* face_nodes;
+  index_t node_count;
+  TEAR_HD int operator()(index_t f) const {
+    for (int k = 0; k < 3; ++k) {
+      const index_t n = face_nodes[3 * f + k];
+      if (n < 0 || n >= node_count) return 1;
+    }
+    return 0;
+  }
+};
+
+struct node_non_finite {
+  const float* node_pos;
+  TEAR_HD int operator()(index_t n) const {
+    for (int d = 0; d < 3; ++d)
+      if (!is_finite(node_pos[3 * n + d])) return 1;
+    return 0;
+  }
+};
+
+/// Repeated node, or twice the area at most `ratio` times the squared longest edge.
+struct face_degenerate {
+  const float* node_pos;
+  const index_t* face_nodes;
+  double ratio;
+  TEAR_HD int operator()(index_t f) const {
+    const index_t a = face_nodes[3 * f], b = face_nodes[3 * f + 1], c = face_nodes[3 * f + 2];
+    if (a == b || b == c || c == a) return 1;
+    double u[3], v[3], w[3];
+    for (int d = 0; d < 3; ++d) {
+      u[d] = double(node_pos[3 * b + d]) - node_pos[3 * a + d];
+      v[d] = double(node_pos[3 * c + d]) - node_pos[3 * a + d];
+      w[d] = v[d] - u[d];
+    }
+    const double cx = u[1] * v[2] - u[2] * v[1], cy = u[2] * v[0] - u[0] * v[2], cz = u[0] * v[1] - u[1] * v[0];
+    const double area2_sq = cx * cx + cy * cy + cz * cz;
+    double longest = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    const double lv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], lw = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    longest = lv > longest ? lv : longest;
+    longest = lw > longest ? lw : longest;
+    return area2_sq <= ratio * ratio * longest * longest ? 1 : 0;
+  }
+};
+
+struct edge_non_manifold {
+  const index_t* edge_face_count;
+  TEAR_HD int operator()(index_t e) const { return edge_face_count[e] > 2 ? 1 : 0; }
+};
+
+/// Local index of edge e in face f, or -1.
+TEAR_HD inline int local_edge(const index_t* face_edges, index_t f, index_t e) {
+  for (int k = 0; k < 3; ++k)
+    if (face_edges[3 * f + k] == e) return k;
+  return -1;
+}
+
+/// A two-face edge whose faces run through it in the same direction.
+struct edge_inconsistent {
+  const index_t* face_nodes;
+  const index_t* face_edges;
+  const index_t* edge_faces;
+  const index_t* edge_face_count;
+  TEAR_HD int operator()(index_t e) const {
+    if (edge_face_count[e] != 2) return 0;
+    const index_t f0 = edge_faces[2 * e], f1 = edge_faces[2 * e + 1];
+    const int k0 = local_edge(face_edges, f0, e), k1 = local_edge(face_edges, f1, e);
+    if (k0 < 0 || k1 < 0) return 0;
+    const index_t a0 = face_nodes[3 * f0 + (k0 + 1) % 3], a1 = face_nodes[3 * f1 + (k1 + 1) % 3];
+    return a0 == a1 ? 1 : 0;  // both start the edge at the same node: same direction
+  }
+};
+
+/// Number of faces reached from the node's first face by crossing the node's manifold
+/// (two-face) edges, walking both ways round. Fewer than the node's faces: more than one fan.
+struct node_non_manifold {
+  const index_t* face_nodes;
+  const index_t* face_edges;
+  const index_t* edge_faces;
+  const index_t* edge_face_count;
+  const index_t* node_face_offset;
+  const index_t* node_faces;
+  TEAR_HD int operator()(index_t n) const {
+    const index_t begin = node_face_offset[n], valence = node_face_offset[n + 1] - begin;
+    if (valence <= 1) return 0;
+    const index_t start = node_faces[begin];
+    index_t reached = 1;
+    // The two edges of `start` at n; walk out through each.
+    int k_n = 0;
+    while (k_n < 3 && face_nodes[3 * start + k_n] != n) ++k_n;
+    if (k_n == 3) return 1;
+    bool closed = false;
+    for (int side = 0; side < 2 && !closed; ++side) {
+      index_t f = start;
+      index_t e = face_edges[3 * start + (k_n + 1 + side) % 3];
+      for (index_t step = 0; step < valence; ++step) {
+        if (edge_face_count[e] != 2) break;
+        const index_t g = edge_faces[2 * e] == f ? edge_faces[2 * e + 1] : edge_faces[2 * e];
+        if (g == start) {
+          closed = true;
+          break;
+        }
+        ++reached;
+        // the other edge of g at n
+        int j = 0;
+        while (j < 3 && face_nodes[3 * g + j] != n) ++j;
+        if (j == 3) return 1;
+        const index_t e1 = face_edges[3 * g + (j + 1) % 3], e2 = face_edges[3 * g + (j + 2) % 3];
+        e = e1 == e ? e2 : e1;
+        f = g;
+      }
+    }
+    return reached < valence ? 1 : 0;
+  }
+};
+
+}  // namespace tear::kernels

@@ -1,0 +1,29 @@
+// tear: choosing the backend that runs the kernels.
+#pragma once
+
+#include <string>
+
+namespace tear {
+
+/// The two backends every kernel runs on: the GPU through Thrust's CUDA system, or the CPU
+/// through Thrust's OpenMP system.
+enum class Device { cpu = 0, cuda = 1 };
+
+/// True when this build carries the CUDA backend.
+bool cuda_compiled();
+
+/// True when the CUDA backend is compiled in and at least one usable GPU is present.
+bool cuda_available();
+
+/// Parses `auto`, `cpu`, `cuda` or `cuda:N` and picks the backend. `auto` is CUDA when a usable
+/// GPU is present, else the CPU. `cuda` without a GPU (or in a CPU-only build) throws a usage
+/// error. `cuda:N` also makes GPU N the current device.
+Device select_device(const std::string& spec);
+
+/// "cpu" or "cuda".
+const char* to_string(Device device);
+
+/// A human-readable name of the hardware: the GPU's name, or "CPU (N threads)".
+std::string device_name(Device device);
+
+}  // namespace tear

@@ -1,0 +1,32 @@
+// tear: a triangle cloth mesh on the host, as structure-of-arrays index buffers.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace tear {
+
+/// The one index type of the project. `-1` means "none" wherever an index can be missing.
+using index_t = std::int32_t;
+inline constexpr index_t none = -1;
+
+/// A triangle mesh on the host.
+///
+/// Topology is carried by `face_nodes` over welded nodes; UVs and normals are per face corner
+/// (corner `c = 3 * face + k`), so UV seams and hard edges survive welding and cutting.
+/// In face `f`, local node `k` is opposite local edge `k`; edge `k` joins nodes `k+1` and `k+2`
+/// (mod 3).
+struct Mesh {
+  std::vector<float> node_pos;        ///< [node_count * 3] positions (x, y, z), metres
+  std::vector<index_t> face_nodes;    ///< [face_count * 3] node indices, counter-clockwise
+  std::vector<float> corner_uv;       ///< [face_count * 3 * 2] or empty when the mesh has no UVs
+  std::vector<float> corner_normal;   ///< [face_count * 3 * 3] or empty when it has no normals
+
+  index_t node_count() const { return static_cast<index_t>(node_pos.size() / 3); }
+  index_t face_count() const { return static_cast<index_t>(face_nodes.size() / 3); }
+  bool has_uv() const { return !corner_uv.empty(); }
+  bool has_normals() const { return !corner_normal.empty(); }
+};
+
+}  // namespace tear

@@ -1,0 +1,48 @@
+// tear: the checks a mesh must pass before it can be cut, shared by the CLI and the tests.
+#pragma once
+
+#include <cstdint>
+#include <string>
+
+#include "tear/device.h"
+#include "tear/mesh.h"
+#include "tear/topology.h"
+
+namespace tear {
+
+/// Counts of everything wrong with a mesh. All zero: the mesh is a valid, oriented 2-manifold
+/// (with boundary) that the remesher can cut.
+struct MeshReport {
+  std::int64_t indices_out_of_range = 0;  ///< faces with a node index outside [0, node_count)
+  std::int64_t non_finite_nodes = 0;      ///< nodes with a NaN or infinite coordinate
+  std::int64_t degenerate_faces = 0;      ///< faces with a repeated node or (numerically) zero area
+  std::int64_t non_manifold_edges = 0;    ///< edges with more than two faces
+  std::int64_t non_manifold_nodes = 0;    ///< nodes whose faces form more than one fan (bow-ties)
+  std::int64_t inconsistent_edges = 0;    ///< two-face edges whose faces disagree on orientation
+
+  /// No index out of range and no non-finite coordinate: topology and statistics can be computed.
+  bool readable() const { return indices_out_of_range == 0 && non_finite_nodes == 0; }
+  /// Nothing wrong at all.
+  bool ok() const {
+    return readable() && degenerate_faces == 0 && non_manifold_edges == 0 && non_manifold_nodes == 0 &&
+           inconsistent_edges == 0;
+  }
+  /// One line naming every non-zero count, e.g. "3 non-manifold edges, 1 bow-tie node".
+  std::string describe() const;
+};
+
+/// A face is degenerate when it repeats a node or when twice its area is at most this fraction
+/// of the square of its longest edge.
+inline constexpr double degenerate_area_ratio = 1e-12;
+
+/// Checks indices and coordinates only; cheap, and enough to know whether topology can be built.
+MeshReport check_indices(const Mesh& mesh, Device device);
+
+/// All checks. `topology` must be `build_topology(mesh)`; requires `check_indices(mesh).readable()`
+/// for the topological counts (they stay 0 otherwise).
+MeshReport validate_mesh(const Mesh& mesh, const Topology& topology, Device device);
+
+/// Convenience: indices first, then topology and the rest when the indices allow it.
+MeshReport validate_mesh(const Mesh& mesh, Device device);
+
+}  // namespace tear

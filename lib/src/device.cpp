@@ -1,0 +1,73 @@
+#include "tear/device.h"
+
+#include <omp.h>
+
+#include <string>
+
+#include "tear/error.h"
+
+#if TEAR_WITH_CUDA
+#include <cuda_runtime_api.h>
+#endif
+
+namespace tear {
+
+bool cuda_compiled() { return TEAR_WITH_CUDA != 0; }
+
+bool cuda_available() {
+#if TEAR_WITH_CUDA
+  int count = 0;
+  if (cudaGetDeviceCount(&count) != cudaSuccess) {
+    cudaGetLastError();  // clear the sticky "no driver" error
+    return false;
+  }
+  return count > 0;
+#else
+  return false;
+#endif
+}
+
+Device select_device(const std::string& spec) {
+  if (spec == "cpu") return Device::cpu;
+  if (spec == "auto") return cuda_available() ? Device::cuda : Device::cpu;
+  if (spec == "cuda" || spec.rfind("cuda:", 0) == 0) {
+    if (!cuda_compiled()) throw Error(ErrorKind::usage, "--device " + spec + ": this build of tear has no CUDA backend");
+    if (!cuda_available()) throw Error(ErrorKind::usage, "--device " + spec + ": no usable CUDA GPU was found");
+#if TEAR_WITH_CUDA
+    if (spec.size() > 5) {
+      const std::string number = spec.substr(5);
+      int count = 0;
+      cudaGetDeviceCount(&count);
+      std::size_t used = 0;
+      int ordinal = -1;
+      try {
+        ordinal = std::stoi(number, &used);
+      } catch (const std::exception&) {
+      }
+      if (used != number.size() || ordinal < 0 || ordinal >= count)
+        throw Error(ErrorKind::usage, "--device " + spec + ": expected cuda:N with N in 0.." + std::to_string(count - 1));
+      if (cudaSetDevice(ordinal) != cudaSuccess) throw runtime_error("--device " + spec + ": cannot select that GPU");
+    }
+#endif
+    return Device::cuda;
+  }
+  throw Error(ErrorKind::usage, "--device " + spec + ": expected auto, cpu, cuda or cuda:N");
+}
+
+const char* to_string(Device device) { return device == Device::cuda ? "cuda" : "cpu"; }
+
+std::string device_name(Device device) {
+#if TEAR_WITH_CUDA
+  if (device == Device::cuda) {
+    int ordinal = 0;
+    cudaDeviceProp prop{};
+    if (cudaGetDevice(&ordinal) == cudaSuccess && cudaGetDeviceProperties(&prop, ordinal) == cudaSuccess)
+      return prop.name;
+    return "CUDA GPU";
+  }
+#endif
+  (void)device;
+  return "CPU (" + std::to_string(omp_get_max_threads()) + " threads)";
+}
+
+}  // namespace tear

@@ -1,0 +1,20 @@
+// tear: the per-system entry points that host code dispatches to (see systems.h).
+#pragma once
+
+#include "systems.h"
+#include "tear/mesh.h"
+#include "tear/topology.h"
+#include "tear/validate_mesh.h"
+
+namespace tear::backend {
+
+template <class System>
+Topology build_topology_on(const Mesh& mesh);
+
+template <class System>
+MeshReport check_indices_on(const Mesh& mesh);
+
+template <class System>
+MeshReport validate_mesh_on(const Mesh& mesh, const Topology& topology);
+
+}  // namespace tear::backend

@@ -1,0 +1,39 @@
+#include "tear/validate_mesh.h"
+
+#include <string>
+
+#include "entry_points.h"
+
+namespace tear {
+
+std::string MeshReport::describe() const {
+  std::string out;
+  auto add = [&](std::int64_t n, const char* one, const char* many) {
+    if (!n) return;
+    if (!out.empty()) out += ", ";
+    out += std::to_string(n) + " " + (n == 1 ? one : many);
+  };
+  add(indices_out_of_range, "face with a node index out of range", "faces with a node index out of range");
+  add(non_finite_nodes, "node with a non-finite coordinate", "nodes with a non-finite coordinate");
+  add(degenerate_faces, "degenerate face", "degenerate faces");
+  add(non_manifold_edges, "non-manifold edge (more than two faces)", "non-manifold edges (more than two faces)");
+  add(non_manifold_nodes, "non-manifold (bow-tie) node", "non-manifold (bow-tie) nodes");
+  add(inconsistent_edges, "edge with inconsistently oriented faces", "edges with inconsistently oriented faces");
+  return out.empty() ? "no problems" : out;
+}
+
+MeshReport check_indices(const Mesh& mesh, Device device) {
+  return backend::dispatch(device, [&](auto system) { return backend::check_indices_on<decltype(system)>(mesh); });
+}
+
+MeshReport validate_mesh(const Mesh& mesh, const Topology& topology, Device device) {
+  return backend::dispatch(device, [&](auto system) { return backend::validate_mesh_on<decltype(system)>(mesh, topology); });
+}
+
+MeshReport validate_mesh(const Mesh& mesh, Device device) {
+  MeshReport report = check_indices(mesh, device);
+  if (report.indices_out_of_range) return report;
+  return validate_mesh(mesh, build_topology(mesh, device), device);
+}
+
+}  // namespace tear
