@@ -1,2 +1,60 @@
-#include <cstdio>
-int main() { std::puts("tear"); return 0; }
+// The `tear` command line: the app, its subcommands, and the one place where exceptions become
+// exit codes (0 ok, 1 usage, 2 bad input, 3 runtime failure) and one-line messages.
+#include <iostream>
+#include <new>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "commands.h"
+#include "tear/error.h"
+
+namespace {
+
+/// Messages from libraries (assimp, CLI11) may span lines; a pipeline log wants one line per error.
+std::string one_line(std::string message) {
+  for (char& c : message)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!message.empty() && message.back() == ' ') message.pop_back();
+  return message;
+}
+
+int fail(int code, const std::string& message) {
+  std::cerr << "tear: " << one_line(message) << std::endl;
+  return code;
+}
+
+/// The help command to suggest after a usage error: that of the subcommand being parsed, if any.
+std::string help_hint(const CLI::App& app) {
+  std::string command = "tear";
+  for (const CLI::App* sub : app.get_subcommands()) command += " " + sub->get_name();
+  return " (see '" + command + " --help')";
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Cut and tear triangle cloth meshes on the GPU (or the CPU).", "tear"};
+  app.set_version_flag("--version", "tear " TEAR_VERSION, "Print the version and exit");
+  app.require_subcommand(1);
+  app.footer("Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure. Run 'tear COMMAND --help' for "
+             "the options of a command; docs/cli.md describes them all.");
+
+  tear::cli::add_info_command(app);
+
+  try {
+    app.parse(argc, argv);  // the chosen subcommand runs inside, as its callback
+    return 0;
+  } catch (const CLI::ParseError& e) {
+    if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help, --version
+    return fail(1, e.what() + help_hint(app));
+  } catch (const tear::Error& e) {
+    return fail(e.exit_code(), e.what());
+  } catch (const std::bad_alloc&) {
+    return fail(3, "out of memory");
+  } catch (const std::exception& e) {
+    return fail(3, std::string("internal error: ") + e.what());
+  } catch (...) {
+    return fail(3, "internal error: unknown exception");
+  }
+}

@@ -1,0 +1,34 @@
+// tear CLI: the subcommands and the options they share.
+//
+// Each subcommand lives in its own file (`info_command.cpp`, ...) and registers itself with one
+// `add_*_command(app)` call in main.cpp. A command reports failure by throwing `tear::Error`
+// (or any exception); main.cpp alone turns exceptions into exit codes and messages.
+#pragma once
+
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "tear/device.h"
+#include "tear/mesh.h"
+#include "tear/read_mesh.h"
+
+namespace tear::cli {
+
+/// `tear info MESH`: counts, boundary loops, components and defects of a mesh.
+void add_info_command(CLI::App& app);
+
+/// Adds `--device auto|cpu|cuda|cuda:N` (default auto) to `command`, stored in `spec`.
+/// Pass the result to `tear::select_device` before reading any input, so that a wrong device is a
+/// usage error whatever the input.
+CLI::Option* add_device_option(CLI::App& command, std::string& spec);
+
+/// Adds `--mesh-name NAME` and `--weld-tolerance T` (finite, >= 0) to `command`, stored in `options`.
+void add_read_options(CLI::App& command, ReadOptions& options);
+
+/// Reads the mesh at `path` and checks its indices and coordinates on `device`: a face index out of
+/// range or a non-finite coordinate throws an input `Error` naming the file and the counts, so that
+/// what is returned can go to `build_topology`.
+Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Device device);
+
+}  // namespace tear::cli

@@ -1,0 +1,63 @@
+// Options and input handling shared by the subcommands.
+#include <cmath>
+#include <cstdlib>
+#include <string>
+
+#include "commands.h"
+#include "tear/error.h"
+#include "tear/validate_mesh.h"
+
+namespace tear::cli {
+
+namespace {
+
+/// Accepts a finite number >= 0; CLI11's own NonNegativeNumber lets "nan" and "inf" through.
+std::string check_finite_non_negative(const std::string& text) {
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value) || value < 0.0)
+    return "expected a finite number >= 0, got '" + text + "'";
+  return {};
+}
+
+std::string plural(std::int64_t n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+}  // namespace
+
+CLI::Option* add_device_option(CLI::App& command, std::string& spec) {
+  return command
+      .add_option("--device", spec,
+                  "Backend that runs the kernels: 'auto' (a CUDA GPU when one is usable, else the CPU), 'cpu', "
+                  "'cuda' (fails when no GPU is usable) or 'cuda:N' (GPU number N)")
+      ->type_name("auto|cpu|cuda|cuda:N")
+      ->capture_default_str();
+}
+
+void add_read_options(CLI::App& command, ReadOptions& options) {
+  command
+      .add_option("--mesh-name", options.mesh_name,
+                  "Read only the meshes of this name (the mesh's or its scene node's name); by default every mesh "
+                  "of the file is merged")
+      ->type_name("NAME");
+  command
+      .add_option("--weld-tolerance", options.weld_tolerance,
+                  "Weld nodes whose positions differ by at most this distance per coordinate (mesh units); 0 welds "
+                  "identical positions only, which joins the copies importers make at UV seams and hard edges")
+      ->type_name("T")
+      ->check(CLI::Validator(check_finite_non_negative, ""))
+      ->capture_default_str();
+}
+
+Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Device device) {
+  Mesh mesh = read_mesh(path, options);
+  const MeshReport report = check_indices(mesh, device);
+  if (!report.readable())
+    throw input_error(path, report.describe() + " (the mesh has " +
+                                plural(mesh.node_count(), "node", "nodes") + " and " +
+                                plural(mesh.face_count(), "face", "faces") + ")");
+  return mesh;
+}
+
+}  // namespace tear::cli
