@@ -1,0 +1,484 @@
+#include "tear/cut_script.h"
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <sstream>
+
+#include "tear/error.h"
+
+namespace tear {
+
+using nlohmann::json;
+
+const char* to_string(CutSpace space) {
+  switch (space) {
+    case CutSpace::uv:
+      return "uv";
+    case CutSpace::rest_xy:
+      return "rest-xy";
+    case CutSpace::rest_xz:
+      return "rest-xz";
+    case CutSpace::rest_yz:
+      return "rest-yz";
+    case CutSpace::world:
+      return "world";
+  }
+  return "?";
+}
+
+const char* to_string(CutKind kind) {
+  switch (kind) {
+    case CutKind::polyline:
+      return "polyline";
+    case CutKind::blade:
+      return "blade";
+    case CutKind::plane:
+      return "plane";
+  }
+  return "?";
+}
+
+std::array<int, 2> rest_plane_axes(CutSpace space) {
+  switch (space) {
+    case CutSpace::rest_xz:
+      return {0, 2};
+    case CutSpace::rest_yz:
+      return {1, 2};
+    default:
+      return {0, 1};
+  }
+}
+
+std::vector<const Cut*> CutScript::cuts_of_frame(int frame) const {
+  std::vector<const Cut*> out;
+  for (const Cut& cut : cuts)
+    if (cut.frame == frame) out.push_back(&cut);
+  return out;
+}
+
+namespace {
+
+// ---- key paths ---------------------------------------------------------------------------------
+
+// Keys that are not plain identifiers are written as ["..."], JSON-escaped, so a message stays on
+// one line whatever the key holds.
+bool is_plain_key(const std::string& key) {
+  if (key.empty() || std::isdigit(static_cast<unsigned char>(key[0]))) return false;
+  return std::all_of(key.begin(), key.end(),
+                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'; });
+}
+
+std::string quoted(const std::string& s) { return json(s).dump(-1, ' ', false, json::error_handler_t::replace); }
+
+std::string child_path(const std::string& parent, const std::string& key) {
+  if (!is_plain_key(key)) return parent + "[" + quoted(key) + "]";
+  return parent.empty() ? key : parent + "." + key;
+}
+
+std::string child_path(const std::string& parent, std::size_t index) {
+  return parent + "[" + std::to_string(index) + "]";
+}
+
+std::string shown_path(const std::string& path) { return path.empty() ? "(root)" : path; }
+
+// What a value is, for "got ..." in messages: short and on one line.
+std::string describe(const json& value) {
+  switch (value.type()) {
+    case json::value_t::null:
+      return "null";
+    case json::value_t::boolean:
+      return value.get<bool>() ? "true" : "false";
+    case json::value_t::string: {
+      const auto& s = value.get_ref<const std::string&>();
+      constexpr std::size_t longest = 40;
+      return s.size() <= longest ? quoted(s) : quoted(s.substr(0, longest)) + "...";
+    }
+    case json::value_t::array:
+      if (value.empty()) return "an empty array";
+      return "an array of " + std::to_string(value.size()) + (value.size() == 1 ? " element" : " elements");
+    case json::value_t::object:
+      return value.empty() ? "an empty object" : "an object";
+    default:
+      if (value.is_number_float() && !std::isfinite(value.get<double>())) return "a non-finite number";
+      return value.dump();
+  }
+}
+
+// ---- syntax --------------------------------------------------------------------------------------
+
+// Line and column (1-based; the column counts UTF-8 characters) of byte `offset` (0-based).
+std::pair<std::size_t, std::size_t> line_and_column(const std::string& text, std::size_t offset) {
+  offset = std::min(offset, text.size());
+  std::size_t line = 1, line_start = 0;
+  for (std::size_t i = 0; i < offset; ++i)
+    if (text[i] == '\n') ++line, line_start = i + 1;
+  std::size_t column = 1;
+  for (std::size_t i = line_start; i < offset; ++i)
+    if ((static_cast<unsigned char>(text[i]) & 0xC0) != 0x80) ++column;
+  // An editor does not show the byte order mark nlohmann skips.
+  if (line == 1 && text.compare(0, 3, "\xEF\xBB\xBF") == 0 && offset >= 3) --column;
+  return {line, column};
+}
+
+// nlohmann says "[json.exception.parse_error.101] parse error at line 3, column 4: syntax error
+// while parsing object - unexpected '}'; expected string literal". Keep what comes after the
+// position, reworded as "syntax error: <detail> (while parsing <what>)".
+std::string syntax_detail(const std::string& message) {
+  std::string rest = message;
+  const std::size_t column_at = rest.find(", column ");
+  if (column_at != std::string::npos) {
+    const std::size_t colon = rest.find(": ", column_at);
+    if (colon != std::string::npos) rest = rest.substr(colon + 2);
+  }
+  const std::string head = "syntax error ";
+  if (rest.compare(0, head.size(), head) == 0) {
+    rest = rest.substr(head.size());
+    const std::size_t dash = rest.find(" - ");
+    if (dash != std::string::npos) return "syntax error: " + rest.substr(dash + 3) + " (" + rest.substr(0, dash) + ")";
+  }
+  return "syntax error: " + rest;
+}
+
+// Follows the key path while nlohmann parses, so that errors the parser raises without a position
+// (duplicate keys, numbers that overflow a double) can name the key path instead.
+class PathTracker {
+ public:
+  explicit PathTracker(const std::string& file) : file_(file) {}
+
+  bool on_event(json::parse_event_t event, json& parsed) {
+    switch (event) {
+      case json::parse_event_t::object_start:
+        levels_.push_back(Level{false, {}, 0, {}});
+        break;
+      case json::parse_event_t::array_start:
+        levels_.push_back(Level{true, {}, 0, {}});
+        break;
+      case json::parse_event_t::key: {
+        Level& top = levels_.back();
+        top.key = parsed.get<std::string>();
+        if (!top.keys.insert(top.key).second)
+          throw input_error(file_, next_value_path() + ": duplicate key (each key may appear once)");
+        break;
+      }
+      case json::parse_event_t::object_end:
+      case json::parse_event_t::array_end:
+        levels_.pop_back();
+        element_done();
+        break;
+      case json::parse_event_t::value:
+        element_done();
+        break;
+    }
+    return true;
+  }
+
+  // The key path of the value being parsed now.
+  std::string next_value_path() const {
+    std::string path;
+    for (const Level& level : levels_)
+      path = level.is_array ? child_path(path, level.index) : child_path(path, level.key);
+    return path;
+  }
+
+ private:
+  struct Level {
+    bool is_array;
+    std::string key;    // objects: the key of the member being parsed
+    std::size_t index;  // arrays: the index of the element being parsed
+    std::set<std::string> keys;
+  };
+  void element_done() {
+    if (!levels_.empty() && levels_.back().is_array) ++levels_.back().index;
+  }
+
+  const std::string& file_;
+  std::vector<Level> levels_;
+};
+
+json parse_json(const std::string& text, const std::string& file) {
+  PathTracker tracker(file);
+  try {
+    return json::parse(text,
+                       [&](int, json::parse_event_t event, json& parsed) { return tracker.on_event(event, parsed); });
+  } catch (const json::parse_error& e) {
+    const auto [line, column] = line_and_column(text, e.byte > 0 ? e.byte - 1 : 0);
+    throw input_error(file + ":" + std::to_string(line) + ":" + std::to_string(column), syntax_detail(e.what()));
+  } catch (const json::out_of_range& e) {
+    // 406: a number too large for a double (1e999). JSON has no NaN or infinity; neither has a script.
+    std::string token;
+    const std::string message = e.what();
+    const std::size_t open = message.find('\''), close = message.rfind('\'');
+    if (open != std::string::npos && close > open) token = " " + message.substr(open + 1, close - open - 1);
+    throw input_error(file, shown_path(tracker.next_value_path()) + ": expected a finite number, got" + token +
+                                " (beyond the range of a double)");
+  } catch (const json::exception& e) {
+    throw input_error(file, std::string("cannot parse: ") + e.what());
+  }
+}
+
+// ---- schema --------------------------------------------------------------------------------------
+
+class ScriptReader {
+ public:
+  explicit ScriptReader(const std::string& file) : file_(file) {}
+
+  [[noreturn]] void fail(const std::string& path, const std::string& what) const {
+    throw input_error(file_, shown_path(path) + ": " + what);
+  }
+
+  // An object holding only `allowed` keys. Unknown keys are errors so that a typo in a pipeline
+  // does not silently drop a cut or an option.
+  void expect_object(const json& value, const std::string& path, const std::vector<std::string>& allowed) const {
+    if (!value.is_object()) fail(path, "expected an object, got " + describe(value));
+    for (const auto& [key, member] : value.items()) {
+      if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+      std::string list;
+      for (std::size_t i = 0; i < allowed.size(); ++i)
+        list += (i == 0 ? "" : i + 1 == allowed.size() ? " or " : ", ") + allowed[i];
+      fail(child_path(path, key), "unknown key (expected " + list + ")");
+    }
+  }
+
+  const json& member(const json& object, const std::string& path, const std::string& key,
+                     const std::string& expected) const {
+    const auto it = object.find(key);
+    if (it == object.end()) fail(child_path(path, key), "missing (expected " + expected + ")");
+    return *it;
+  }
+
+  double number(const json& value, const std::string& path) const {
+    if (!value.is_number()) fail(path, "expected a number, got " + describe(value));
+    const double x = value.get<double>();
+    if (!std::isfinite(x)) fail(path, "expected a finite number, got " + describe(value));
+    return x;
+  }
+
+  // JSON does not tell 4 from 4.0, and generators differ: any number with an integral value counts.
+  int integer(const json& value, const std::string& path, long long lo, long long hi,
+              const std::string& expected) const {
+    bool ok = false;
+    long long n = 0;
+    if (value.is_number_integer() || value.is_number_unsigned()) {
+      // Non-negative integers arrive as unsigned: compare them as unsigned, or 2^64 - 1 would pass as -1.
+      if (value.is_number_unsigned()) {
+        const unsigned long long u = value.get<unsigned long long>();
+        ok = u <= static_cast<unsigned long long>(hi) && static_cast<long long>(u) >= lo;
+      } else {
+        ok = value.get<long long>() >= lo && value.get<long long>() <= hi;
+      }
+      if (ok) n = value.get<long long>();
+    } else if (value.is_number_float()) {
+      const double x = value.get<double>();
+      ok = std::isfinite(x) && x == std::floor(x) && x >= static_cast<double>(lo) && x <= static_cast<double>(hi);
+      if (ok) n = static_cast<long long>(x);
+    }
+    if (!ok) fail(path, "expected " + expected + ", got " + describe(value));
+    return static_cast<int>(n);
+  }
+
+  template <std::size_t N>
+  std::array<double, N> point(const json& value, const std::string& path) const {
+    if (!value.is_array() || value.size() != N)
+      fail(path, "expected an array of " + std::to_string(N) + " numbers, got " + describe(value));
+    std::array<double, N> p{};
+    for (std::size_t i = 0; i < N; ++i) p[i] = number(value[i], child_path(path, i));
+    return p;
+  }
+
+  template <std::size_t N>
+  std::vector<std::array<double, N>> polyline(const json& value, const std::string& path) const {
+    const std::string shape = N == 2 ? "[u, v]" : "[x, y, z]";
+    if (!value.is_array()) fail(path, "expected an array of " + shape + " points, got " + describe(value));
+    if (value.size() < 2) fail(path, "expected at least 2 points, got " + std::to_string(value.size()));
+    std::vector<std::array<double, N>> points;
+    for (std::size_t i = 0; i < value.size(); ++i) points.push_back(point<N>(value[i], child_path(path, i)));
+    return points;
+  }
+
+  std::array<double, 3> nonzero_vector(const json& value, const std::string& path) const {
+    const auto v = point<3>(value, path);
+    if (v[0] == 0 && v[1] == 0 && v[2] == 0) fail(path, "expected a non-zero vector, got [0, 0, 0]");
+    return v;
+  }
+
+ private:
+  const std::string& file_;
+};
+
+double length(const std::array<double, 3>& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
+
+std::array<double, 3> cross(const std::array<double, 3>& a, const std::array<double, 3>& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+
+CutSpace parse_space(const ScriptReader& reader, const json& value, const std::string& path) {
+  static const std::pair<const char*, CutSpace> spaces[] = {{"uv", CutSpace::uv},
+                                                            {"rest-xy", CutSpace::rest_xy},
+                                                            {"rest-xz", CutSpace::rest_xz},
+                                                            {"rest-yz", CutSpace::rest_yz}};
+  const std::string expected = "\"uv\", \"rest-xy\", \"rest-xz\" or \"rest-yz\"";
+  if (!value.is_string()) reader.fail(path, "expected one of " + expected + ", got " + describe(value));
+  for (const auto& [name, space] : spaces)
+    if (value.get_ref<const std::string&>() == name) return space;
+  reader.fail(path, "unknown space " + describe(value) + " (expected " + expected + ")");
+}
+
+Cut parse_cut(const ScriptReader& reader, const json& value, const std::string& path, int frames) {
+  reader.expect_object(value, path, {"frame", "space", "polyline", "blade", "plane"});
+  Cut cut;
+  cut.key_path = path;
+  const std::string frame_range = "an integer in 1.." + std::to_string(frames);
+  cut.frame = reader.integer(reader.member(value, path, "frame", frame_range), child_path(path, "frame"), 1, frames,
+                             frame_range + " (1..frames)");
+
+  std::vector<std::string> given;
+  if (value.contains("space") || value.contains("polyline")) given.push_back("\"polyline\"");
+  if (value.contains("blade")) given.push_back("\"blade\"");
+  if (value.contains("plane")) given.push_back("\"plane\"");
+  if (given.empty())
+    reader.fail(path, "expected one of \"polyline\" (with \"space\"), \"blade\" or \"plane\", got none");
+  if (given.size() > 1) {
+    std::string list = given[0];
+    for (std::size_t i = 1; i < given.size(); ++i) list += (i + 1 == given.size() ? " and " : ", ") + given[i];
+    reader.fail(path, "expected exactly one of \"polyline\", \"blade\" or \"plane\", got " + list);
+  }
+
+  if (value.contains("blade")) {
+    const std::string blade_path = child_path(path, "blade");
+    const json& blade = value["blade"];
+    reader.expect_object(blade, blade_path, {"polyline", "direction"});
+    cut.kind = CutKind::blade;
+    cut.space = CutSpace::world;
+    cut.polyline3 = reader.polyline<3>(reader.member(blade, blade_path, "polyline", "an array of [x, y, z] points"),
+                                       child_path(blade_path, "polyline"));
+    cut.direction = reader.nonzero_vector(reader.member(blade, blade_path, "direction", "a non-zero [x, y, z] vector"),
+                                          child_path(blade_path, "direction"));
+    // A segment parallel to the direction sweeps a line, which the neighbouring segments' surfaces
+    // already contain: harmless. A blade made only of such segments cuts nothing, which is a mistake.
+    bool sweeps_area = false;
+    for (std::size_t i = 0; i + 1 < cut.polyline3.size() && !sweeps_area; ++i) {
+      const auto& a = cut.polyline3[i];
+      const auto& b = cut.polyline3[i + 1];
+      const std::array<double, 3> segment{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
+      sweeps_area =
+          length(cross(segment, cut.direction)) > blade_parallel_sine * length(segment) * length(cut.direction);
+    }
+    if (!sweeps_area)
+      reader.fail(blade_path, "every segment of the polyline is parallel to the direction, so the blade has no area");
+  } else if (value.contains("plane")) {
+    const std::string plane_path = child_path(path, "plane");
+    const json& plane = value["plane"];
+    reader.expect_object(plane, plane_path, {"point", "normal"});
+    cut.kind = CutKind::plane;
+    cut.space = CutSpace::world;
+    cut.point = reader.point<3>(reader.member(plane, plane_path, "point", "an array of 3 numbers"),
+                                child_path(plane_path, "point"));
+    cut.normal = reader.nonzero_vector(reader.member(plane, plane_path, "normal", "a non-zero [x, y, z] vector"),
+                                       child_path(plane_path, "normal"));
+  } else {
+    cut.kind = CutKind::polyline;
+    cut.space =
+        parse_space(reader, reader.member(value, path, "space", "\"uv\", \"rest-xy\", \"rest-xz\" or \"rest-yz\""),
+                    child_path(path, "space"));
+    const std::string polyline_path = child_path(path, "polyline");
+    cut.polyline2 =
+        reader.polyline<2>(reader.member(value, path, "polyline", "an array of [u, v] points"), polyline_path);
+    const auto& p = cut.polyline2;
+    if (std::all_of(p.begin(), p.end(), [&](const std::array<double, 2>& q) { return q == p.front(); }))
+      reader.fail(polyline_path, "all points are equal, so the cut has no length");
+  }
+  return cut;
+}
+
+}  // namespace
+
+CutScript parse_cut_script(const std::string& text, const std::string& path_for_messages) {
+  const std::string& file = path_for_messages;
+  json root = parse_json(text, file);
+  const ScriptReader reader(file);
+  if (!root.is_object()) reader.fail("", "expected an object, got " + describe(root));
+
+  CutScript script;
+  script.path = file;
+  // The version comes first: keys a later version adds should be reported as a version mismatch.
+  script.version = reader.integer(reader.member(root, "", "version", "1"), "version", 1, 1, "1");
+  reader.expect_object(root, "", {"version", "frames", "snap", "cuts", "simulation"});
+
+  const std::string frames_expected = "an integer >= 1";
+  script.frames = reader.integer(reader.member(root, "", "frames", frames_expected), "frames", 1,
+                                 std::numeric_limits<int>::max(), frames_expected);
+
+  if (root.contains("snap")) {
+    script.snap = reader.number(root["snap"], "snap");
+    if (!(script.snap >= 0 && script.snap < 0.5))
+      reader.fail("snap", "expected a number in [0, 0.5), got " + describe(root["snap"]));
+  }
+
+  if (root.contains("cuts")) {
+    const json& cuts = root["cuts"];
+    if (!cuts.is_array()) reader.fail("cuts", "expected an array of cuts, got " + describe(cuts));
+    for (std::size_t i = 0; i < cuts.size(); ++i)
+      script.cuts.push_back(parse_cut(reader, cuts[i], child_path("cuts", i), script.frames));
+  }
+
+  if (root.contains("simulation")) {
+    // Its content belongs to the simulation options, which read and check it themselves.
+    if (!root["simulation"].is_object())
+      reader.fail("simulation", "expected an object, got " + describe(root["simulation"]));
+    // Moved, not copied: copying a json value recurses, and a deeply nested one would overflow the stack.
+    script.simulation = std::move(root["simulation"]);
+  }
+  return script;
+}
+
+CutScript read_cut_script(const std::string& path) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) throw input_error(path, "cannot read the cut script: it is a directory");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw input_error(path, std::string("cannot open the cut script: ") + std::strerror(errno));
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (in.bad()) throw input_error(path, std::string("cannot read the cut script: ") + std::strerror(errno));
+  return parse_cut_script(text.str(), path);
+}
+
+void check_script_against_mesh(const CutScript& script, const Mesh& mesh, const std::string& mesh_path) {
+  // Rest-shape bounding box, for the projection check below.
+  std::array<double, 3> lo{}, hi{};
+  const index_t node_count = mesh.node_count();
+  for (index_t n = 0; n < node_count; ++n)
+    for (int a = 0; a < 3; ++a) {
+      const double x = mesh.node_pos[3 * n + a];
+      lo[a] = n == 0 ? x : std::min(lo[a], x);
+      hi[a] = n == 0 ? x : std::max(hi[a], x);
+    }
+  const std::array<double, 3> extent{hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
+  const double diagonal = length(extent);
+  // Relative, so that the check means the same in millimetres and in metres.
+  constexpr double flat_fraction = 1e-9;
+
+  for (const Cut& cut : script.cuts) {
+    if (cut.kind != CutKind::polyline) continue;
+    if (cut.space == CutSpace::uv) {
+      if (!mesh.has_uv())
+        throw input_error(script.path, cut.key_path + ": a \"uv\" cut needs a mesh with UVs, and " + mesh_path +
+                                           " has none (use a \"rest-xy\", \"rest-xz\" or \"rest-yz\" space)");
+      continue;
+    }
+    if (node_count == 0) continue;
+    for (int axis : rest_plane_axes(cut.space)) {
+      if (extent[axis] > flat_fraction * diagonal) continue;
+      throw input_error(script.path, cut.key_path + ": \"" + to_string(cut.space) + "\" projects the rest shape of " +
+                                         mesh_path + " onto a line or a point (it has no extent along " + "xyz"[axis] +
+                                         "); use the plane the cloth lies in");
+    }
+  }
+}
+
+}  // namespace tear
