@@ -38,8 +38,8 @@ class TempDir {
  public:
   TempDir() {
     static int counter = 0;
-    path_ = fs::temp_directory_path() /
-            ("tear_test_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
+    path_ =
+        fs::temp_directory_path() / ("tear_test_cli_" + std::to_string(::getpid()) + "_" + std::to_string(counter++));
     fs::remove_all(path_);
     fs::create_directories(path_);
   }
@@ -173,10 +173,14 @@ TEST_CASE("cli: unknown flags and bad option values are usage errors", "[cli]") 
   TempDir dir;
   const fs::path mesh = dir.file("grid.obj", grid_obj);
   const std::string m = quoted(mesh);
-  const std::vector<std::string> bad_args = {"info --no-such-flag " + m,     "info --weld-tolerance -1 " + m,
-                                             "info --weld-tolerance nan " + m, "info --weld-tolerance inf " + m,
-                                             "info --device gpu " + m,        "info",
-                                             "",                               "no-such-command"};
+  const std::vector<std::string> bad_args = {"info --no-such-flag " + m,
+                                             "info --weld-tolerance -1 " + m,
+                                             "info --weld-tolerance nan " + m,
+                                             "info --weld-tolerance inf " + m,
+                                             "info --device gpu " + m,
+                                             "info",
+                                             "",
+                                             "no-such-command"};
   for (const std::string& args : bad_args) {
     INFO("tear " << args);
     const Run run = dir.tear(args);

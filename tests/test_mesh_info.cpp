@@ -231,10 +231,22 @@ TEST_CASE("mesh_info: json has exactly the documented keys", "[info]") {
   const nlohmann::json j = tear::to_json(info_of(grid(2, 1, [](int, int) { return true; })));
   std::set<std::string> keys;
   for (const auto& item : j.items()) keys.insert(item.key());
-  const std::set<std::string> expected = {"nodes", "faces", "edges", "boundary_edges", "boundary_loops",
-                                          "components", "euler_characteristic", "non_manifold_edges",
-                                          "non_manifold_nodes", "degenerate_faces", "inconsistent_edges",
-                                          "area", "has_uv", "has_normals", "min_angle_deg", "bbox_min",
+  const std::set<std::string> expected = {"nodes",
+                                          "faces",
+                                          "edges",
+                                          "boundary_edges",
+                                          "boundary_loops",
+                                          "components",
+                                          "euler_characteristic",
+                                          "non_manifold_edges",
+                                          "non_manifold_nodes",
+                                          "degenerate_faces",
+                                          "inconsistent_edges",
+                                          "area",
+                                          "has_uv",
+                                          "has_normals",
+                                          "min_angle_deg",
+                                          "bbox_min",
                                           "bbox_max"};
   CHECK(keys == expected);
   CHECK(j["faces"] == 4);

@@ -54,9 +54,8 @@ Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Devi
   Mesh mesh = read_mesh(path, options);
   const MeshReport report = check_indices(mesh, device);
   if (!report.readable())
-    throw input_error(path, report.describe() + " (the mesh has " +
-                                plural(mesh.node_count(), "node", "nodes") + " and " +
-                                plural(mesh.face_count(), "face", "faces") + ")");
+    throw input_error(path, report.describe() + " (the mesh has " + plural(mesh.node_count(), "node", "nodes") +
+                                " and " + plural(mesh.face_count(), "face", "faces") + ")");
   return mesh;
 }
 

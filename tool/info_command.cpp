@@ -74,7 +74,8 @@ void print_human(std::ostream& out, const std::string& path, Device device, cons
   };
   std::size_t width = 0;
   for (const auto& row : rows) width = std::max(width, row.first.size());
-  for (const auto& row : rows) out << row.first << ':' << std::string(width + 1 - row.first.size(), ' ') << row.second << '\n';
+  for (const auto& row : rows)
+    out << row.first << ':' << std::string(width + 1 - row.first.size(), ' ') << row.second << '\n';
 }
 
 void run_info(const InfoOptions& options) {

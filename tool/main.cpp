@@ -37,8 +37,9 @@ int main(int argc, char** argv) {
   CLI::App app{"Cut and tear triangle cloth meshes on the GPU (or the CPU).", "tear"};
   app.set_version_flag("--version", "tear " TEAR_VERSION, "Print the version and exit");
   app.require_subcommand(1);
-  app.footer("Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure. Run 'tear COMMAND --help' for "
-             "the options of a command; docs/cli.md describes them all.");
+  app.footer(
+      "Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure. Run 'tear COMMAND --help' for "
+      "the options of a command; docs/cli.md describes them all.");
 
   tear::cli::add_info_command(app);
 
