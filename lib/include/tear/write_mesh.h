@@ -10,27 +10,37 @@ namespace tear {
 enum class MeshFormat { obj, ply, gltf, glb };
 
 /// The format named by the file's extension (.obj, .ply, .gltf, .glb; case-insensitive);
-/// throws a usage `Error` for any other.
+/// throws a usage `Error` naming the path and the supported extensions for any other.
 MeshFormat format_from_path(const std::string& path);
 
-/// Writes `mesh` to `path` in `format`: to a temporary file beside it, then renamed, so a reader
-/// never sees a half-written file. Floats are printed with 9 significant digits (they read back
-/// to the same float), so the same mesh always gives the same bytes.
+/// Writes `mesh` to `path` in `format` (the first overload takes it from the extension): to a
+/// temporary file beside it (`.<name>.tmp.<pid>`), then renamed, so a reader never sees a
+/// half-written file. The same mesh always gives the same bytes.
 ///
-/// - OBJ: `v`, `vt`, `vn` and `f v/vt/vn` with per-corner indices (UVs and normals deduplicated
-///   by value, in order of first use).
-/// - PLY (binary little endian): positions and faces over the welded nodes; per-corner UVs as the
-///   face property `texcoord` (6 floats), normals per node (area-weighted mean of the corners).
-/// - glTF/GLB: one mesh, one primitive with POSITION, NORMAL and TEXCOORD_0; nodes are split where
-///   their corners disagree on UV or normal (glTF has no per-corner indices). A `.gltf` embeds its
-///   buffer as a data URI, so the frame is one file.
+/// - OBJ: a `# tear` header line, `v` for every node (node `i` is `v` number `i + 1`), `vt` and
+///   `vn` deduplicated by exact value in order of first use, and `f v/vt/vn` per face (`f v//vn`,
+///   `f v/vt` or `f v` when UVs or normals are missing). No .mtl file. Floats are printed with
+///   `%.9g` (they read back to the same float), except magnitudes below 1e-4, printed in fixed
+///   notation with 15 decimals when that reads back to the same float: assimp's OBJ parser
+///   rounds numbers with an exponent inexactly, fixed notation it reads exactly.
+/// - PLY: binary little endian. assimp 5.2 does not read per-face `texcoord` lists back per
+///   corner, so nodes are split: one PLY vertex per distinct (node, UV, normal) in order of first
+///   use, with `x y z`, then `nx ny nz` and `s t` when the mesh has them; faces are
+///   `vertex_indices` lists. Reading it back welds the split vertices into the same nodes.
+/// - glTF/GLB: one scene, one node, one mesh, one primitive (triangles) with POSITION (with
+///   min/max), NORMAL and TEXCOORD_0 (those the mesh has) and UNSIGNED_INT indices; nodes are
+///   split like PLY's, since glTF has no per-corner indices. glTF puts the UV origin at the top
+///   left, so `v` is written as `1 - v` (assimp flips it back on import). A `.gltf` embeds its
+///   buffer as a base64 data URI, so a frame is one file; a `.glb` is the binary container.
 ///
-/// Throws a runtime `Error` naming the file when it cannot be written.
+/// Throws a runtime `Error` ("<path>: cannot write: <reason>") when the file cannot be written,
+/// leaving no temporary file behind.
 void write_mesh(const Mesh& mesh, const std::string& path);
 void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format);
 
-/// Writes `text` to `path` atomically (temporary file beside it, then rename). Throws a runtime
-/// `Error` naming the file on failure.
+/// Writes `text` (any bytes) to `path` atomically: to `.<name>.tmp.<pid>` in the same directory,
+/// then `rename`d over `path`. On failure the temporary file is removed and a runtime `Error`
+/// "<path>: cannot write: <reason>" is thrown.
 void write_file_atomically(const std::string& path, const std::string& text);
 
 }  // namespace tear

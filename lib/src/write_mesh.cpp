@@ -1,0 +1,350 @@
+#include "tear/write_mesh.h"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <map>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "tear/error.h"
+
+namespace tear {
+namespace {
+
+std::uint32_t float_bits(float value) {
+  std::uint32_t bits;
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+
+/// `%.9g` without the locale: 9 significant digits always read back to the same float. Small
+/// magnitudes go to fixed notation where that is exact too, because assimp's OBJ parser scales
+/// by the exponent in float arithmetic and misses by one ulp on a few percent of such numbers.
+std::string format_float(float value) {
+  char text[64];
+  const double wide = value;
+  if (std::isfinite(value) && value != 0.0f && std::fabs(value) < 1e-4f) {
+    const auto fixed = std::to_chars(text, text + sizeof text, wide, std::chars_format::fixed, 15);
+    float back = 0.0f;
+    const auto parsed = std::from_chars(text, fixed.ptr, back);
+    if (parsed.ec == std::errc() && back == value) return std::string(text, fixed.ptr);
+  }
+  const auto general = std::to_chars(text, text + sizeof text, wide, std::chars_format::general, 9);
+  return std::string(text, general.ptr);
+}
+
+/// Rejects meshes whose arrays do not match, so a writer never reads out of range.
+void check_mesh(const Mesh& mesh, const std::string& path) {
+  auto fail = [&](const std::string& what) { return runtime_error(path + ": cannot write: " + what); };
+  const std::size_t corner_count = mesh.face_nodes.size();
+  if (mesh.node_pos.size() % 3 != 0) throw fail("node_pos size is not a multiple of 3");
+  if (corner_count % 3 != 0) throw fail("face_nodes size is not a multiple of 3");
+  if (mesh.has_uv() && mesh.corner_uv.size() != 2 * corner_count) throw fail("corner_uv has the wrong size");
+  if (mesh.has_normals() && mesh.corner_normal.size() != 3 * corner_count) {
+    throw fail("corner_normal has the wrong size");
+  }
+  for (std::size_t c = 0; c < corner_count; ++c) {
+    const index_t node = mesh.face_nodes[c];
+    if (node < 0 || node >= mesh.node_count()) {
+      throw fail("face " + std::to_string(c / 3) + " uses node " + std::to_string(node) + " of " +
+                 std::to_string(mesh.node_count()));
+    }
+  }
+}
+
+/// Nodes split where their corners disagree on UV or normal, for formats without per-corner
+/// indices: one vertex per distinct (node, UV, normal), numbered in order of first use.
+struct SplitNodes {
+  std::vector<index_t> vertex_node;    ///< [vertex_count] node of each vertex
+  std::vector<index_t> vertex_corner;  ///< [vertex_count] first corner using it (its UV and normal)
+  std::vector<index_t> corner_vertex;  ///< [face_count * 3] vertex of each corner
+};
+
+SplitNodes split_nodes(const Mesh& mesh) {
+  auto same_attributes = [&](std::size_t a, std::size_t b) {
+    for (int k = 0; mesh.has_uv() && k < 2; ++k) {
+      if (float_bits(mesh.corner_uv[2 * a + k]) != float_bits(mesh.corner_uv[2 * b + k])) return false;
+    }
+    for (int k = 0; mesh.has_normals() && k < 3; ++k) {
+      if (float_bits(mesh.corner_normal[3 * a + k]) != float_bits(mesh.corner_normal[3 * b + k])) return false;
+    }
+    return true;
+  };
+  SplitNodes split;
+  // A node has few distinct corner attributes, so a linear search per node is enough.
+  std::vector<std::vector<index_t>> node_vertices(mesh.node_count());
+  split.corner_vertex.resize(mesh.face_nodes.size());
+  for (std::size_t c = 0; c < mesh.face_nodes.size(); ++c) {
+    std::vector<index_t>& candidates = node_vertices[mesh.face_nodes[c]];
+    index_t vertex = none;
+    for (index_t candidate : candidates) {
+      if (same_attributes(split.vertex_corner[candidate], c)) {
+        vertex = candidate;
+        break;
+      }
+    }
+    if (vertex == none) {
+      vertex = static_cast<index_t>(split.vertex_node.size());
+      split.vertex_node.push_back(mesh.face_nodes[c]);
+      split.vertex_corner.push_back(static_cast<index_t>(c));
+      candidates.push_back(vertex);
+    }
+    split.corner_vertex[c] = vertex;
+  }
+  return split;
+}
+
+/// Numbers distinct values (compared bit for bit) in order of first use, as OBJ's `vt`/`vn` lists.
+template <int width>
+std::vector<index_t> number_by_value(const std::vector<float>& corner_values, std::string& lines, const char* keyword) {
+  std::map<std::vector<std::uint32_t>, index_t> value_index;
+  std::vector<index_t> corner_index(corner_values.size() / width);
+  std::vector<std::uint32_t> key(width);
+  for (std::size_t c = 0; c < corner_index.size(); ++c) {
+    for (int k = 0; k < width; ++k) key[k] = float_bits(corner_values[width * c + k]);
+    auto inserted = value_index.emplace(key, static_cast<index_t>(value_index.size()));
+    if (inserted.second) {
+      lines += keyword;
+      for (int k = 0; k < width; ++k) lines += " " + format_float(corner_values[width * c + k]);
+      lines += '\n';
+    }
+    corner_index[c] = inserted.first->second;
+  }
+  return corner_index;
+}
+
+std::string obj_text(const Mesh& mesh) {
+  std::string text = "# tear\n";
+  for (index_t node = 0; node < mesh.node_count(); ++node) {
+    text += "v " + format_float(mesh.node_pos[3 * node]) + " " + format_float(mesh.node_pos[3 * node + 1]) + " " +
+            format_float(mesh.node_pos[3 * node + 2]) + "\n";
+  }
+  std::vector<index_t> corner_uv_index, corner_normal_index;
+  if (mesh.has_uv()) corner_uv_index = number_by_value<2>(mesh.corner_uv, text, "vt");
+  if (mesh.has_normals()) corner_normal_index = number_by_value<3>(mesh.corner_normal, text, "vn");
+  for (std::size_t c = 0; c < mesh.face_nodes.size(); ++c) {
+    text += c % 3 == 0 ? "f " : " ";
+    text += std::to_string(mesh.face_nodes[c] + 1);
+    if (mesh.has_uv() || mesh.has_normals()) text += '/';
+    if (mesh.has_uv()) text += std::to_string(corner_uv_index[c] + 1);
+    if (mesh.has_normals()) text += "/" + std::to_string(corner_normal_index[c] + 1);
+    if (c % 3 == 2) text += '\n';
+  }
+  return text;
+}
+
+void append_u8(std::string& out, std::uint8_t value) { out += static_cast<char>(value); }
+
+void append_u32(std::string& out, std::uint32_t value) {
+  for (int byte = 0; byte < 4; ++byte) out += static_cast<char>((value >> (8 * byte)) & 0xFFu);
+}
+
+void append_f32(std::string& out, float value) { append_u32(out, float_bits(value)); }
+
+std::string ply_bytes(const Mesh& mesh) {
+  const SplitNodes split = split_nodes(mesh);
+  std::string out = "ply\nformat binary_little_endian 1.0\ncomment tear\n";
+  out += "element vertex " + std::to_string(split.vertex_node.size()) + "\n";
+  out += "property float x\nproperty float y\nproperty float z\n";
+  if (mesh.has_normals()) out += "property float nx\nproperty float ny\nproperty float nz\n";
+  if (mesh.has_uv()) out += "property float s\nproperty float t\n";
+  out += "element face " + std::to_string(mesh.face_count()) + "\n";
+  out += "property list uchar int vertex_indices\nend_header\n";
+  for (std::size_t v = 0; v < split.vertex_node.size(); ++v) {
+    const index_t node = split.vertex_node[v];
+    const index_t corner = split.vertex_corner[v];
+    for (int k = 0; k < 3; ++k) append_f32(out, mesh.node_pos[3 * node + k]);
+    for (int k = 0; mesh.has_normals() && k < 3; ++k) append_f32(out, mesh.corner_normal[3 * corner + k]);
+    for (int k = 0; mesh.has_uv() && k < 2; ++k) append_f32(out, mesh.corner_uv[2 * corner + k]);
+  }
+  for (index_t face = 0; face < mesh.face_count(); ++face) {
+    append_u8(out, 3);
+    for (int k = 0; k < 3; ++k) append_u32(out, static_cast<std::uint32_t>(split.corner_vertex[3 * face + k]));
+  }
+  return out;
+}
+
+std::string base64(const std::string& bytes) {
+  static const char alphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string out;
+  out.reserve((bytes.size() + 2) / 3 * 4);
+  for (std::size_t i = 0; i < bytes.size(); i += 3) {
+    std::uint32_t group = static_cast<std::uint8_t>(bytes[i]) << 16;
+    if (i + 1 < bytes.size()) group |= static_cast<std::uint8_t>(bytes[i + 1]) << 8;
+    if (i + 2 < bytes.size()) group |= static_cast<std::uint8_t>(bytes[i + 2]);
+    out += alphabet[(group >> 18) & 63];
+    out += alphabet[(group >> 12) & 63];
+    out += i + 1 < bytes.size() ? alphabet[(group >> 6) & 63] : '=';
+    out += i + 2 < bytes.size() ? alphabet[group & 63] : '=';
+  }
+  return out;
+}
+
+/// A float as the JSON number with the fewest digits that reads back to it.
+double json_number(float value) {
+  char text[32];
+  const auto end = std::to_chars(text, text + sizeof text, value).ptr;
+  double wide = value;
+  std::from_chars(text, end, wide);
+  return wide;
+}
+
+/// The glTF document and its binary buffer (positions, normals, UVs, then indices).
+std::pair<nlohmann::json, std::string> gltf_document(const Mesh& mesh) {
+  using nlohmann::json;
+  json document;
+  document["asset"] = {{"generator", "tear"}, {"version", "2.0"}};
+  document["scene"] = 0;
+  if (mesh.face_count() == 0) {
+    // glTF forbids empty accessors and buffers: an empty mesh is a scene without nodes.
+    document["scenes"] = json::array({json::object()});
+    return {document, std::string()};
+  }
+  document["scenes"] = json::array({{{"nodes", {0}}}});
+  document["nodes"] = json::array({{{"mesh", 0}, {"name", "cloth"}}});
+
+  const SplitNodes split = split_nodes(mesh);
+  const std::size_t vertex_count = split.vertex_node.size();
+  std::string buffer;
+  json buffer_views = json::array();
+  json accessors = json::array();
+  json attributes = json::object();
+  constexpr int array_buffer = 34962, element_array_buffer = 34963;
+  constexpr int float_type = 5126, unsigned_int_type = 5125;
+
+  auto add_view = [&](std::size_t begin, int target) {
+    buffer_views.push_back(
+        {{"buffer", 0}, {"byteOffset", begin}, {"byteLength", buffer.size() - begin}, {"target", target}});
+  };
+
+  // POSITION needs min and max; non-finite coordinates stay out of them (JSON has no NaN).
+  std::size_t begin = buffer.size();
+  float low[3], high[3];
+  bool seen[3] = {false, false, false};
+  for (index_t node : split.vertex_node) {
+    for (int k = 0; k < 3; ++k) {
+      const float x = mesh.node_pos[3 * node + k];
+      append_f32(buffer, x);
+      if (!std::isfinite(x)) continue;
+      low[k] = seen[k] ? std::min(low[k], x) : x;
+      high[k] = seen[k] ? std::max(high[k], x) : x;
+      seen[k] = true;
+    }
+  }
+  json min = json::array(), max = json::array();
+  for (int k = 0; k < 3; ++k) {
+    min.push_back(seen[k] ? json_number(low[k]) : 0.0);
+    max.push_back(seen[k] ? json_number(high[k]) : 0.0);
+  }
+  add_view(begin, array_buffer);
+  accessors.push_back({{"bufferView", buffer_views.size() - 1},
+                       {"componentType", float_type},
+                       {"count", vertex_count},
+                       {"type", "VEC3"},
+                       {"min", min},
+                       {"max", max}});
+  attributes["POSITION"] = accessors.size() - 1;
+
+  if (mesh.has_normals()) {
+    begin = buffer.size();
+    for (index_t corner : split.vertex_corner) {
+      for (int k = 0; k < 3; ++k) append_f32(buffer, mesh.corner_normal[3 * corner + k]);
+    }
+    add_view(begin, array_buffer);
+    accessors.push_back({{"bufferView", buffer_views.size() - 1},
+                         {"componentType", float_type},
+                         {"count", vertex_count},
+                         {"type", "VEC3"}});
+    attributes["NORMAL"] = accessors.size() - 1;
+  }
+  if (mesh.has_uv()) {
+    begin = buffer.size();
+    for (index_t corner : split.vertex_corner) {
+      append_f32(buffer, mesh.corner_uv[2 * corner]);
+      append_f32(buffer, 1.0f - mesh.corner_uv[2 * corner + 1]);
+    }
+    add_view(begin, array_buffer);
+    accessors.push_back({{"bufferView", buffer_views.size() - 1},
+                         {"componentType", float_type},
+                         {"count", vertex_count},
+                         {"type", "VEC2"}});
+    attributes["TEXCOORD_0"] = accessors.size() - 1;
+  }
+
+  begin = buffer.size();
+  for (index_t vertex : split.corner_vertex) append_u32(buffer, static_cast<std::uint32_t>(vertex));
+  add_view(begin, element_array_buffer);
+  accessors.push_back({{"bufferView", buffer_views.size() - 1},
+                       {"componentType", unsigned_int_type},
+                       {"count", split.corner_vertex.size()},
+                       {"type", "SCALAR"}});
+
+  constexpr int triangles = 4;
+  document["meshes"] = json::array(
+      {{{"name", "cloth"},
+        {"primitives",
+         json::array({{{"attributes", attributes}, {"indices", accessors.size() - 1}, {"mode", triangles}}})}}});
+  document["accessors"] = accessors;
+  document["bufferViews"] = buffer_views;
+  document["buffers"] = json::array({{{"byteLength", buffer.size()}}});
+  return {document, buffer};
+}
+
+std::string gltf_text(const Mesh& mesh) {
+  auto [document, buffer] = gltf_document(mesh);
+  if (!buffer.empty()) {
+    document["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(buffer);
+  }
+  return document.dump(2) + "\n";
+}
+
+std::string glb_bytes(const Mesh& mesh) {
+  const auto [document, buffer] = gltf_document(mesh);
+  // Chunks are 4-byte aligned: JSON padded with spaces, the binary chunk with zeros.
+  std::string json_chunk = document.dump();
+  json_chunk.resize((json_chunk.size() + 3) / 4 * 4, ' ');
+  std::string bin_chunk = buffer;
+  bin_chunk.resize((bin_chunk.size() + 3) / 4 * 4, '\0');
+  const std::size_t total = 12 + 8 + json_chunk.size() + (bin_chunk.empty() ? 0 : 8 + bin_chunk.size());
+  std::string out;
+  out.reserve(total);
+  append_u32(out, 0x46546C67u);  // "glTF"
+  append_u32(out, 2);
+  append_u32(out, static_cast<std::uint32_t>(total));
+  append_u32(out, static_cast<std::uint32_t>(json_chunk.size()));
+  append_u32(out, 0x4E4F534Au);  // "JSON"
+  out += json_chunk;
+  if (!bin_chunk.empty()) {
+    append_u32(out, static_cast<std::uint32_t>(bin_chunk.size()));
+    append_u32(out, 0x004E4942u);  // "BIN\0"
+    out += bin_chunk;
+  }
+  return out;
+}
+
+}  // namespace
+
+void write_mesh(const Mesh& mesh, const std::string& path) { write_mesh(mesh, path, format_from_path(path)); }
+
+void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format) {
+  check_mesh(mesh, path);
+  switch (format) {
+    case MeshFormat::obj:
+      return write_file_atomically(path, obj_text(mesh));
+    case MeshFormat::ply:
+      return write_file_atomically(path, ply_bytes(mesh));
+    case MeshFormat::gltf:
+      return write_file_atomically(path, gltf_text(mesh));
+    case MeshFormat::glb:
+      return write_file_atomically(path, glb_bytes(mesh));
+  }
+  throw Error(ErrorKind::usage, path + ": unknown mesh format");
+}
+
+}  // namespace tear
