@@ -1,0 +1,58 @@
+// tear kernels: count of new nodes per node, edge and face (paper §2.2): one per sector.
+#pragma once
+
+#include "walk_sectors.h"
+
+namespace tear::kernels {
+
+/// Every node survives with at least one copy; a node on cut lines gets one per sector.
+struct count_node_copies {
+  SectorMesh mesh;
+  index_t* node_new_count;
+  TEAR_HD void operator()(index_t n) const {
+    count_sectors c;
+    const bool closed = walk_node(mesh, n, c);
+    node_new_count[n] = c.sectors(closed);
+  }
+};
+
+/// An edge with a cut point inside it gets one node per sector of that point; others none.
+struct count_edge_copies {
+  SectorMesh mesh;
+  const std::uint8_t* edge_point;
+  index_t* edge_new_count;
+  TEAR_HD void operator()(index_t e) const {
+    if (edge_point[e] != edge_point_inside) {
+      edge_new_count[e] = 0;
+      return;
+    }
+    count_sectors c;
+    const bool closed = walk_edge_point(mesh, e, c);
+    edge_new_count[e] = c.sectors(closed);
+  }
+};
+
+/// A face whose lines cross gets one node per sector of its face point; others none.
+struct count_face_copies {
+  SectorMesh mesh;
+  index_t* face_new_count;
+  TEAR_HD void operator()(index_t f) const {
+    if (!mesh.table[mesh.face_state[f]].face_point) {
+      face_new_count[f] = 0;
+      return;
+    }
+    count_sectors c;
+    walk_face_point(mesh, f, c);
+    face_new_count[f] = c.sectors(true);
+  }
+};
+
+/// New triangles per face, from the split table (paper §2.3).
+struct count_new_faces {
+  const std::uint16_t* face_state;
+  const SplitCase* table;
+  index_t* face_new_face_count;
+  TEAR_HD void operator()(index_t f) const { face_new_face_count[f] = table[face_state[f]].tri_count; }
+};
+
+}  // namespace tear::kernels

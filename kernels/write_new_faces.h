@@ -1,0 +1,72 @@
+// tear kernels: the new faces (paper §2.3, write step): parent face and per-corner attributes,
+// interpolated inside the parent face only, so UVs never blend across a seam.
+#pragma once
+
+#include <cmath>
+
+#include "cut_info.h"
+#include "split_table.h"
+
+namespace tear::kernels {
+
+/// Barycentric coordinates over face f's corners of a point code of f's split.
+TEAR_HD inline void point_code_bary(std::uint8_t code, const index_t* face_nodes, const index_t* face_edges,
+                                    const float* edge_point_t, const float* face_point_bary, index_t f, double* b) {
+  const int local = point_local(code);
+  switch (point_kind(code)) {
+    case PointKind::node:
+      b[0] = b[1] = b[2] = 0.0;
+      b[local] = 1.0;
+      break;
+    case PointKind::edge: {
+      const index_t e = face_edges[3 * f + local];
+      const bool forward = face_nodes[3 * f + (local + 1) % 3] < face_nodes[3 * f + (local + 2) % 3];
+      edge_point_bary(local, forward ? edge_point_t[e] : 1.0 - edge_point_t[e], b);
+      break;
+    }
+    default:
+      for (int i = 0; i < 3; ++i) b[i] = face_point_bary[3 * f + i];
+  }
+}
+
+struct write_new_faces {
+  const index_t* face_nodes;
+  const index_t* face_edges;
+  const std::uint16_t* face_state;
+  const SplitCase* table;
+  const float* edge_point_t;
+  const float* face_point_bary;
+  const index_t* face_tri_offset;
+  const float* corner_uv;      ///< [old_face_count * 6] or null
+  const float* corner_normal;  ///< [old_face_count * 9] or null
+  index_t* new_face_parent;
+  float* new_corner_uv;
+  float* new_corner_normal;
+  TEAR_HD void operator()(index_t f) const {
+    const SplitCase& c = table[face_state[f]];
+    for (int t = 0; t < c.tri_count; ++t) {
+      const index_t nf = face_tri_offset[f] + t;
+      new_face_parent[nf] = f;
+      for (int k = 0; k < 3; ++k) {
+        double b[3];
+        point_code_bary(c.tri[t][k], face_nodes, face_edges, edge_point_t, face_point_bary, f, b);
+        const index_t nc = 3 * nf + k;
+        if (corner_uv)
+          for (int d = 0; d < 2; ++d)
+            new_corner_uv[2 * nc + d] = static_cast<float>(b[0] * corner_uv[6 * f + d] + b[1] * corner_uv[6 * f + 2 + d] +
+                                                           b[2] * corner_uv[6 * f + 4 + d]);
+        if (corner_normal) {
+          double v[3], len2 = 0;
+          for (int d = 0; d < 3; ++d) {
+            v[d] = b[0] * corner_normal[9 * f + d] + b[1] * corner_normal[9 * f + 3 + d] + b[2] * corner_normal[9 * f + 6 + d];
+            len2 += v[d] * v[d];
+          }
+          const double inv = len2 > 0 ? 1.0 / sqrt(len2) : 0.0;
+          for (int d = 0; d < 3; ++d) new_corner_normal[3 * nc + d] = static_cast<float>(v[d] * inv);
+        }
+      }
+    }
+  }
+};
+
+}  // namespace tear::kernels

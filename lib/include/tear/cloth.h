@@ -1,0 +1,86 @@
+// tear: a cloth held on a backend, cut in place by the GPU remesher (paper §2).
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <vector>
+
+#include "tear/cut_script.h"
+#include "tear/device.h"
+#include "tear/mesh.h"
+#include "tear/topology.h"
+
+namespace tear {
+
+/// A cut as the remesher takes it: a 2D polyline, and where the mesh's 2D coordinates come from.
+/// Script cuts become CutLines through `to_cut_line`.
+struct CutLine {
+  enum class Source { corner_uv, node_rest, node_pos };
+  Source source = Source::node_rest;
+  std::array<double, 3> axis_u{1, 0, 0};  ///< 3D sources: a point p projects to (p·axis_u, p·axis_v)
+  std::array<double, 3> axis_v{0, 1, 0};
+  std::vector<std::array<double, 2>> polyline;  ///< [n >= 2]
+  bool unbounded_start = false;  ///< the first segment extends backwards without end
+  bool unbounded_end = false;    ///< the last segment extends forwards without end
+};
+
+/// The CutLine of a script cut: `uv` reads corner UVs; `rest-*` the rest shape on that plane; a
+/// blade projects the current pose along its direction; a plane is a line unbounded both ways in
+/// a projection along one of its own directions.
+CutLine to_cut_line(const Cut& cut);
+
+/// Options of `Cloth::cut`; mirrored by the script key `snap`.
+struct CutOptions {
+  double snap = default_snap;  ///< cut points nearer a node than this fraction of their edge move onto it
+};
+
+/// What one `Cloth::cut` did.
+struct CutStats {
+  index_t nodes_before = 0, faces_before = 0;
+  index_t nodes_after = 0, faces_after = 0;
+  index_t edge_points = 0;  ///< edges with a cut point inside them
+  index_t face_points = 0;  ///< faces whose cut lines cross
+  index_t cut_edges = 0;    ///< edges with a cut line along them (edge cut info != 0)
+};
+
+/// Where each node and face of the mesh after a cut came from, in the mesh before it.
+struct CutProvenance {
+  std::vector<index_t> node_source;        ///< [node_count * 3] old nodes (-1 unused)
+  std::vector<float> node_source_weight;   ///< [node_count * 3] interpolation weights (sum 1)
+  std::vector<index_t> face_parent;        ///< [face_count] old face each new face lies in
+};
+
+/// A cloth mesh and its state (positions, rest positions, velocities) held on a backend.
+class Cloth {
+ public:
+  /// Uploads `mesh` (rest shape = current positions, velocities 0). The mesh must pass
+  /// `validate_mesh` (the remesher needs an oriented manifold); callers check first.
+  Cloth(const Mesh& mesh, Device device);
+  ~Cloth();
+  Cloth(Cloth&&) noexcept;
+  Cloth& operator=(Cloth&&) noexcept;
+
+  Device device() const;
+  index_t node_count() const;
+  index_t face_count() const;
+
+  /// Applies `cuts` together (one frame's cuts), remeshing on the device. Cuts that miss the
+  /// cloth, or retrace an existing tear, change nothing.
+  CutStats cut(const std::vector<CutLine>& cuts, const CutOptions& options = {});
+
+  /// The current mesh: positions, faces, per-corner UVs and normals.
+  Mesh mesh() const;
+  Topology topology() const;
+  std::vector<float> node_rest() const;
+  std::vector<float> node_vel() const;
+  /// Provenance of the last cut (empty before the first).
+  CutProvenance provenance() const;
+
+  class Engine;  ///< the per-backend implementation
+
+ private:
+  std::unique_ptr<Engine> engine_;
+};
+
+}  // namespace tear

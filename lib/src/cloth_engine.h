@@ -1,0 +1,30 @@
+// tear: the per-backend implementation behind tear::Cloth.
+#pragma once
+
+#include <memory>
+
+#include "systems.h"
+#include "tear/cloth.h"
+
+namespace tear {
+
+class Cloth::Engine {
+ public:
+  virtual ~Engine() = default;
+  virtual Device device() const = 0;
+  virtual index_t node_count() const = 0;
+  virtual index_t face_count() const = 0;
+  virtual CutStats cut(const std::vector<CutLine>& cuts, const CutOptions& options) = 0;
+  virtual Mesh mesh() const = 0;
+  virtual Topology topology() const = 0;
+  virtual std::vector<float> node_rest() const = 0;
+  virtual std::vector<float> node_vel() const = 0;
+  virtual CutProvenance provenance() const = 0;
+};
+
+namespace backend {
+template <class System>
+std::unique_ptr<Cloth::Engine> make_cloth_engine(const Mesh& mesh);
+}  // namespace backend
+
+}  // namespace tear
