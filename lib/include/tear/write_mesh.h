@@ -22,7 +22,8 @@ MeshFormat format_from_path(const std::string& path);
 ///   `f v/vt` or `f v` when UVs or normals are missing). No .mtl file. Floats are printed with
 ///   `%.9g` (they read back to the same float), except magnitudes below 1e-4, printed in fixed
 ///   notation with 15 decimals when that reads back to the same float: assimp's OBJ parser
-///   rounds numbers with an exponent inexactly, fixed notation it reads exactly.
+///   rounds numbers with an exponent inexactly, fixed notation it reads exactly (below about 1e-7
+///   15 decimals are too few and `%.9g` is kept).
 /// - PLY: binary little endian. assimp 5.2 does not read per-face `texcoord` lists back per
 ///   corner, so nodes are split: one PLY vertex per distinct (node, UV, normal) in order of first
 ///   use, with `x y z`, then `nx ny nz` and `s t` when the mesh has them; faces are
