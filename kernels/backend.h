@@ -20,8 +20,13 @@
 #define TEAR_CUDA_SYSTEM 0
 #endif
 
-// Thrust defines __host__ and __device__ (empty for a host compiler); never redefine them.
+// Functions callable from kernels on both systems. A host compiler (the CPU-only build, or host
+// code including these headers) sees plain functions; __host__/__device__ are never redefined.
+#if defined(__CUDACC__)
 #define TEAR_HD __host__ __device__
+#else
+#define TEAR_HD
+#endif
 
 namespace tear::kernels {
 /// True for a finite float, on host and device alike (x - x is NaN for NaN and infinities).
