@@ -43,6 +43,7 @@ struct Traits<Omp> {
   template <class T>
   using vector = thrust::omp::vector<T>;
   static auto policy() { return thrust::omp::par; }
+  static void synchronize() {}
 };
 
 #if TEAR_CUDA_SYSTEM
@@ -50,7 +51,10 @@ template <>
 struct Traits<Cuda> {
   template <class T>
   using vector = thrust::cuda::vector<T>;
-  static auto policy() { return thrust::cuda::par; }
+  // Stages queue on the default stream without waiting; reading a result back (a count, a total)
+  // is what synchronises, so a cut waits only where it needs a number on the host.
+  static auto policy() { return thrust::cuda::par_nosync; }
+  static void synchronize() { cudaStreamSynchronize(0); }
 };
 #endif
 

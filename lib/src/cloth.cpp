@@ -27,6 +27,19 @@ Vec3 perpendicular(const Vec3& d) {
 }
 }  // namespace
 
+const char* to_string(CutStage stage) {
+  switch (stage) {
+    case CutStage::intersection: return "intersection";
+    case CutStage::cut_info: return "cut_info";
+    case CutStage::counts_and_scans: return "counts_and_scans";
+    case CutStage::node_write: return "node_write";
+    case CutStage::face_write: return "face_write";
+    case CutStage::node_mapping: return "node_mapping";
+    case CutStage::adjacency: return "adjacency";
+    default: return "?";
+  }
+}
+
 CutLine to_cut_line(const Cut& cut) {
   CutLine line;
   switch (cut.kind) {

@@ -1,6 +1,8 @@
 // The remesher on either backend (paper §2): a short list of named stages, each a count, a scan or
 // a write over one kind of element. Scratch arrays live with the cloth and only grow, so once
 // they reach capacity a cut allocates nothing for its own arrays.
+#include <chrono>
+
 #include <thrust/copy.h>
 #include <thrust/count.h>
 #include <thrust/fill.h>
@@ -20,6 +22,27 @@
 #include "write_new_nodes.h"
 
 namespace tear::backend {
+
+/// Stage timer of a cut: with timing on, waits for the device at each mark.
+class StageClock {
+ public:
+  using clock = std::chrono::steady_clock;
+  StageClock(bool enabled, double* ms) : enabled_(enabled), ms_(ms), start_(clock::now()), last_(start_) {}
+  template <class System>
+  void mark(CutStage stage) {
+    if (!enabled_) return;
+    Traits<System>::synchronize();
+    const auto now = clock::now();
+    ms_[static_cast<int>(stage)] = std::chrono::duration<double, std::milli>(now - last_).count();
+    last_ = now;
+  }
+  double total_ms() const { return std::chrono::duration<double, std::milli>(clock::now() - start_).count(); }
+
+ private:
+  bool enabled_;
+  double* ms_;
+  clock::time_point start_, last_;
+};
 
 template <class System>
 class ClothEngine final : public Cloth::Engine {
@@ -43,6 +66,7 @@ class ClothEngine final : public Cloth::Engine {
   index_t face_count() const override { return topo_.face_count; }
 
   CutStats cut(const std::vector<CutLine>& cuts, const CutOptions& options) override;
+  void run_cut(const std::vector<CutLine>& cuts, const CutOptions& options, CutStats& stats, StageClock& clock);
 
   Mesh mesh() const override {
     Mesh m;
@@ -133,14 +157,23 @@ kernels::SectorMesh ClothEngine<System>::sector_mesh() const {
 
 template <class System>
 CutStats ClothEngine<System>::cut(const std::vector<CutLine>& cuts, const CutOptions& options) {
+  CutStats stats;
+  StageClock clock(options.time_stages, stats.stage_ms.data());
+  run_cut(cuts, options, stats, clock);
+  Traits<System>::synchronize();
+  stats.total_ms = clock.total_ms();
+  return stats;
+}
+
+template <class System>
+void ClothEngine<System>::run_cut(const std::vector<CutLine>& cuts, const CutOptions& options, CutStats& stats, StageClock& clock) {
   using namespace kernels;
   const auto policy = Traits<System>::policy();
   const index_t n_count = topo_.node_count, f_count = topo_.face_count, e_count = topo_.edge_count;
-  CutStats stats;
   stats.nodes_before = stats.nodes_after = n_count;
   stats.faces_before = stats.faces_after = f_count;
   upload_cuts(cuts);
-  if (cut_paths_.empty() || f_count == 0) return stats;
+  if (cut_paths_.empty() || f_count == 0) return;
   const bool has_uv = !corner_uv_.empty(), has_normal = !corner_normal_.empty();
 
   // §2.1 cut points: every cut against every face, one averaged and snapped point per edge, then
@@ -152,6 +185,7 @@ CutStats ClothEngine<System>::cut(const std::vector<CutLine>& cuts, const CutOpt
                                          raw<float>(node_pos_), raw<CutPath>(cut_paths_), static_cast<index_t>(cut_paths_.size()),
                                          raw<double>(cut_point_x_), raw<double>(cut_point_y_), raw<double>(half_hit_sum_),
                                          raw<index_t>(half_hit_count_), raw<std::uint16_t>(face_pairs_)});
+  clock.mark<System>(CutStage::intersection);
   edge_point_.resize(e_count);
   edge_point_t_.resize(e_count);
   for_each_index(e_count, snap_edge_points{raw<index_t>(topo_.edge_faces), raw<index_t>(topo_.face_edges), raw<double>(half_hit_sum_),
@@ -165,6 +199,7 @@ CutStats ClothEngine<System>::cut(const std::vector<CutLine>& cuts, const CutOpt
   edge_cut_.resize(e_count);
   for_each_index(e_count, edge_cut_info{raw<index_t>(face_nodes_), raw<index_t>(topo_.edge_faces), raw<index_t>(topo_.edge_nodes),
                                         raw<index_t>(topo_.face_edges), raw<std::uint8_t>(face_along_), raw<std::uint8_t>(edge_cut_)});
+  clock.mark<System>(CutStage::cut_info);
 
   // §2.2 new nodes: count per node, edge and face (one per sector), then one exclusive scan over
   // the three, so node copies come first, then edge points', then face points'.
@@ -193,7 +228,8 @@ CutStats ClothEngine<System>::cut(const std::vector<CutLine>& cuts, const CutOpt
   stats.edge_points = static_cast<index_t>(thrust::count(policy, edge_point_.begin(), edge_point_.end(), std::uint8_t(edge_point_inside)));
   stats.cut_edges = static_cast<index_t>(e_count - thrust::count(policy, edge_cut_.begin(), edge_cut_.end(), std::uint8_t(0)));
   stats.face_points = static_cast<index_t>(f_count - thrust::count(policy, face_new_count, face_new_count + f_count, 0));
-  if (new_node_count == n_count && new_face_count == f_count) return stats;  // the cuts split nothing
+  clock.mark<System>(CutStage::counts_and_scans);
+  if (new_node_count == n_count && new_face_count == f_count) return;  // the cuts split nothing
 
   // §2.2 write: provenance of every new node, then its state gathered from its sources.
   node_source_.resize(3 * std::size_t(new_node_count));
@@ -210,6 +246,7 @@ CutStats ClothEngine<System>::cut(const std::vector<CutLine>& cuts, const CutOpt
   new_node_vel_.resize(3 * std::size_t(new_node_count));
   for (auto [from, to] : {std::pair{&node_pos_, &new_node_pos_}, std::pair{&node_rest_, &new_node_rest_}, std::pair{&node_vel_, &new_node_vel_}})
     for_each_index(new_node_count, interpolate_nodes{raw<index_t>(node_source_), raw<float>(node_source_weight_), raw<float>(*from), raw<float>(*to)});
+  clock.mark<System>(CutStage::node_write);
 
   // §2.3 write: parents and per-corner attributes of the new faces.
   face_parent_.resize(new_face_count);
@@ -220,6 +257,7 @@ CutStats ClothEngine<System>::cut(const std::vector<CutLine>& cuts, const CutOpt
                                           raw<index_t>(face_new_face_offset_), has_uv ? raw<float>(corner_uv_) : nullptr,
                                           has_normal ? raw<float>(corner_normal_) : nullptr, raw<index_t>(face_parent_),
                                           has_uv ? raw<float>(new_corner_uv_) : nullptr, has_normal ? raw<float>(new_corner_normal_) : nullptr});
+  clock.mark<System>(CutStage::face_write);
 
   // §2.4 node mapping: every point walks its new triangles and hands out its copies.
   new_face_nodes_.resize(3 * std::size_t(new_face_count));
@@ -227,6 +265,7 @@ CutStats ClothEngine<System>::cut(const std::vector<CutLine>& cuts, const CutOpt
   for_each_index(n_count, map_node_copies{sectors, face_tri_offset, node_new_offset, node_new_count, raw<index_t>(new_face_nodes_)});
   for_each_index(e_count, map_edge_copies{sectors, face_tri_offset, edge_new_offset, edge_new_count, raw<index_t>(new_face_nodes_)});
   for_each_index(f_count, map_face_copies{sectors, face_tri_offset, face_new_offset, face_new_count, raw<index_t>(new_face_nodes_)});
+  clock.mark<System>(CutStage::node_mapping);
 
   // The new mesh replaces the old; §2.4 adjacency rebuilt from the new faces.
   face_nodes_.swap(new_face_nodes_);
@@ -236,10 +275,10 @@ CutStats ClothEngine<System>::cut(const std::vector<CutLine>& cuts, const CutOpt
   corner_uv_.swap(new_corner_uv_);
   corner_normal_.swap(new_corner_normal_);
   build_device_topology(topo_, face_nodes_, new_node_count);
+  clock.mark<System>(CutStage::adjacency);
 
   stats.nodes_after = new_node_count;
   stats.faces_after = new_face_count;
-  return stats;
 }
 
 template <class System>

@@ -33,7 +33,14 @@ CutLine to_cut_line(const Cut& cut);
 /// Options of `Cloth::cut`; mirrored by the script key `snap`.
 struct CutOptions {
   double snap = default_snap;  ///< cut points nearer a node than this fraction of their edge move onto it
+  /// Measure the time of every stage (`CutStats::stage_ms`); adds a device synchronisation after
+  /// each stage, so leave it off outside benchmarks.
+  bool time_stages = false;
 };
+
+/// The stages of a cut, in order (paper §2.1–2.4), for `CutStats::stage_ms`.
+enum class CutStage { intersection, cut_info, counts_and_scans, node_write, face_write, node_mapping, adjacency, count };
+const char* to_string(CutStage stage);
 
 /// What one `Cloth::cut` did.
 struct CutStats {
@@ -42,6 +49,10 @@ struct CutStats {
   index_t edge_points = 0;  ///< edges with a cut point inside them
   index_t face_points = 0;  ///< faces whose cut lines cross
   index_t cut_edges = 0;    ///< edges with a cut line along them (edge cut info != 0)
+  /// Milliseconds per stage when `CutOptions::time_stages` is set (zeros otherwise, and for the
+  /// stages a cut that splits nothing skips).
+  std::array<double, static_cast<int>(CutStage::count)> stage_ms{};
+  double total_ms = 0;  ///< wall time of the whole cut, measured always
 };
 
 /// Where each node and face of the mesh after a cut came from, in the mesh before it.
