@@ -18,6 +18,9 @@ namespace tear::cli {
 /// `tear info MESH`: counts, boundary loops, components and defects of a mesh.
 void add_info_command(CLI::App& app);
 
+/// `tear bench`: remesh timings on generated sheets, GPU and CPU side by side.
+void add_bench_command(CLI::App& app);
+
 /// Adds `--device auto|cpu|cuda|cuda:N` (default auto) to `command`, stored in `spec`.
 /// Pass the result to `tear::select_device` before reading any input, so that a wrong device is a
 /// usage error whatever the input.

@@ -42,6 +42,7 @@ int main(int argc, char** argv) {
       "the options of a command; docs/cli.md describes them all.");
 
   tear::cli::add_info_command(app);
+  tear::cli::add_bench_command(app);
 
   try {
     app.parse(argc, argv);  // the chosen subcommand runs inside, as its callback
