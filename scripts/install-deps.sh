@@ -5,7 +5,9 @@
 # /usr/local/cuda/bin) the build adds the CUDA backend, without it the build is CPU-only and uses
 # libthrust-dev.
 set -euo pipefail
-packages=(cmake ninja-build g++ pkg-config libassimp-dev libeigen3-dev libcli11-dev nlohmann-json3-dev catch2 libthrust-dev)
+# assimp-testmodels: meshes written by other tools, read by the test suite.
+packages=(cmake ninja-build g++ pkg-config libassimp-dev libeigen3-dev libcli11-dev nlohmann-json3-dev catch2 libthrust-dev
+  assimp-testmodels)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
