@@ -1,0 +1,246 @@
+#include <cstdint>
+#include <vector>
+
+#include "catch.h"
+#include "random_meshes.h"
+#include "reference_topology.h"
+#include "tear/device.h"
+#include "tear/topology.h"
+#include "tear/validate_mesh.h"
+#include "test_support.h"
+
+namespace {
+
+using tear::index_t;
+using Indices = std::vector<index_t>;
+using Flags = std::vector<std::uint8_t>;
+
+tear::Mesh make_mesh(std::vector<float> node_pos, Indices face_nodes) {
+  tear::Mesh m;
+  m.node_pos = std::move(node_pos);
+  m.face_nodes = std::move(face_nodes);
+  return m;
+}
+
+// Every array spelled out, so a literal test states the conventions, not just agrees with the
+// reference.
+struct Expected {
+  index_t edge_count;
+  Indices edge_nodes, edge_faces, edge_face_count, face_edges, node_face_offset, node_faces;
+  Flags edge_boundary, node_boundary;
+};
+
+void check_topology(const tear::Mesh& mesh, const Expected& e) {
+  const tear::Topology t = tear::build_topology(mesh, tear::test::test_device());
+  CHECK(t.node_count == mesh.node_count());
+  CHECK(t.face_count == mesh.face_count());
+  CHECK(t.edge_count == e.edge_count);
+  CHECK(t.edge_nodes == e.edge_nodes);
+  CHECK(t.edge_faces == e.edge_faces);
+  CHECK(t.edge_face_count == e.edge_face_count);
+  CHECK(t.face_edges == e.face_edges);
+  CHECK(t.node_face_offset == e.node_face_offset);
+  CHECK(t.node_faces == e.node_faces);
+  CHECK(t.edge_boundary == e.edge_boundary);
+  CHECK(t.node_boundary == e.node_boundary);
+  // The reference must state the same conventions as the literal arrays.
+  CHECK(tear::test::topology_difference(tear::test::reference_topology(mesh), t) == "");
+}
+
+}  // namespace
+
+TEST_CASE("topology: single triangle", "[topology]") {
+  const auto m = make_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2});
+  // Local edge k is opposite local node k: edge 0 = (1, 2), edge 1 = (0, 2), edge 2 = (0, 1).
+  check_topology(m, {3,
+                     {0, 1, 0, 2, 1, 2},
+                     {0, -1, 0, -1, 0, -1},
+                     {1, 1, 1},
+                     {2, 1, 0},
+                     {0, 1, 2, 3},
+                     {0, 0, 0},
+                     {1, 1, 1},
+                     {1, 1, 1}});
+}
+
+TEST_CASE("topology: quad of two faces shares its diagonal", "[topology]") {
+  const auto m = make_mesh({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0}, {0, 1, 2, 0, 2, 3});
+  check_topology(m, {5,
+                     {0, 1, 0, 2, 0, 3, 1, 2, 2, 3},
+                     {0, -1, 0, 1, 1, -1, 0, -1, 1, -1},
+                     {1, 2, 1, 1, 1},
+                     {3, 1, 0, 4, 2, 1},
+                     {0, 2, 3, 5, 6},
+                     {0, 1, 0, 0, 1, 1},
+                     {1, 0, 1, 1, 1},
+                     {1, 1, 1, 1}});
+}
+
+TEST_CASE("topology: closed fan has an interior node", "[topology]") {
+  const auto m = make_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0, -1, 0, 0, 0, -1, 0}, {0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 1});
+  check_topology(m, {8,
+                     {0, 1, 0, 2, 0, 3, 0, 4, 1, 2, 1, 4, 2, 3, 3, 4},
+                     {0, 3, 0, 1, 1, 2, 2, 3, 0, -1, 3, -1, 1, -1, 2, -1},
+                     {2, 2, 2, 2, 1, 1, 1, 1},
+                     {4, 1, 0, 6, 2, 1, 7, 3, 2, 5, 0, 3},
+                     {0, 4, 6, 8, 10, 12},
+                     {0, 1, 2, 3, 0, 3, 0, 1, 1, 2, 2, 3},
+                     {0, 0, 0, 0, 1, 1, 1, 1},
+                     {0, 1, 1, 1, 1}});
+}
+
+TEST_CASE("topology: strip of three faces", "[topology]") {
+  const auto m = make_mesh({0, 0, 0, 1, 0, 0, 2, 0, 0, 0.5f, 1, 0, 1.5f, 1, 0}, {0, 1, 3, 1, 4, 3, 1, 2, 4});
+  check_topology(m, {7,
+                     {0, 1, 0, 3, 1, 2, 1, 3, 1, 4, 2, 4, 3, 4},
+                     {0, -1, 0, -1, 2, -1, 0, 1, 1, 2, 2, -1, 1, -1},
+                     {1, 1, 1, 2, 2, 1, 1},
+                     {3, 1, 0, 6, 3, 4, 5, 4, 2},
+                     {0, 1, 4, 5, 7, 9},
+                     {0, 0, 1, 2, 2, 0, 1, 1, 2},
+                     {1, 1, 1, 0, 0, 1, 1},
+                     {1, 1, 1, 1, 1}});
+}
+
+TEST_CASE("topology: sheet with a hole has an inner boundary", "[topology]") {
+  // Outer square 0..3, inner square 4..7 (the hole), two faces per side.
+  const auto m = make_mesh({-2, -2, 0, 2, -2, 0, 2, 2, 0, -2, 2, 0, -1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0},
+                           {0, 1, 5, 0, 5, 4, 1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7});
+  check_topology(
+      m, {16,
+          {0, 1, 0, 3, 0, 4, 0, 5, 1, 2, 1, 5, 1, 6, 2, 3, 2, 6, 2, 7, 3, 4, 3, 7, 4, 5, 4, 7, 5, 6, 6, 7},
+          {0, -1, 6, -1, 1, 6, 0, 1, 2, -1, 0, 3, 2, 3, 4, -1, 2, 5, 4, 5, 6, 7, 4, 7, 1, -1, 7, -1, 3, -1, 5, -1},
+          {1, 1, 2, 2, 1, 2, 2, 1, 2, 2, 2, 2, 1, 1, 1, 1},
+          {5, 3, 0, 12, 2, 3, 8, 6, 4, 14, 5, 6, 11, 9, 7, 15, 8, 9, 2, 10, 1, 13, 11, 10},
+          {0, 3, 6, 9, 12, 15, 18, 21, 24},
+          {0, 1, 6, 0, 2, 3, 2, 4, 5, 4, 6, 7, 1, 6, 7, 0, 1, 3, 2, 3, 5, 4, 5, 7},
+          {1, 1, 0, 0, 1, 0, 0, 1, 0, 0, 0, 0, 1, 1, 1, 1},
+          {1, 1, 1, 1, 1, 1, 1, 1}});
+}
+
+TEST_CASE("topology: fin puts three faces on one edge", "[topology]") {
+  const auto m = make_mesh({0, 0, 0, 1, 0, 0, 0.5f, 1, 0, 0.5f, -1, 0, 0.5f, 0, 1}, {0, 1, 2, 1, 0, 3, 0, 1, 4});
+  // edge_faces keeps the first two faces of the edge; edge_face_count says there are three.
+  check_topology(m, {7,
+                     {0, 1, 0, 2, 0, 3, 0, 4, 1, 2, 1, 3, 1, 4},
+                     {0, 1, 0, -1, 1, -1, 2, -1, 0, -1, 1, -1, 2, -1},
+                     {3, 1, 1, 1, 1, 1, 1},
+                     {4, 1, 0, 2, 5, 0, 6, 3, 0},
+                     {0, 3, 6, 7, 8, 9},
+                     {0, 1, 2, 0, 1, 2, 0, 1, 2},
+                     {0, 1, 1, 1, 1, 1, 1},
+                     {1, 1, 1, 1, 1}});
+}
+
+TEST_CASE("topology: bow-tie shares a node and no edge", "[topology]") {
+  const auto m = make_mesh({0, 0, 0, 1, -0.5f, 0, 1, 0.5f, 0, -1, 0.5f, 0, -1, -0.5f, 0}, {0, 1, 2, 0, 3, 4});
+  check_topology(m, {6,
+                     {0, 1, 0, 2, 0, 3, 0, 4, 1, 2, 3, 4},
+                     {0, -1, 0, -1, 1, -1, 1, -1, 0, -1, 1, -1},
+                     {1, 1, 1, 1, 1, 1},
+                     {4, 1, 0, 5, 3, 2},
+                     {0, 2, 3, 4, 5, 6},
+                     {0, 1, 0, 0, 1, 1},
+                     {1, 1, 1, 1, 1, 1},
+                     {1, 1, 1, 1, 1}});
+}
+
+TEST_CASE("topology: tetrahedron is closed", "[topology]") {
+  const auto m = make_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 1}, {0, 2, 1, 0, 1, 3, 0, 3, 2, 1, 2, 3});
+  check_topology(m, {6,
+                     {0, 1, 0, 2, 0, 3, 1, 2, 1, 3, 2, 3},
+                     {0, 1, 0, 2, 1, 2, 0, 3, 1, 3, 2, 3},
+                     {2, 2, 2, 2, 2, 2},
+                     {3, 0, 1, 4, 2, 0, 5, 1, 2, 5, 4, 3},
+                     {0, 3, 6, 9, 12},
+                     {0, 1, 2, 0, 1, 3, 0, 2, 3, 1, 2, 3},
+                     {0, 0, 0, 0, 0, 0},
+                     {0, 0, 0, 0}});
+}
+
+TEST_CASE("topology: a face repeating a node lists it twice", "[topology]") {
+  // Garbage in, but the arrays still follow the conventions: the pair (0, 1) is local edges 0
+  // and 1 of face 0, the pair (0, 0) its local edge 2.
+  const auto m = make_mesh({0, 0, 0, 1, 0, 0}, {0, 0, 1});
+  check_topology(m, {2, {0, 0, 0, 1}, {0, -1, 0, 0}, {1, 2}, {1, 1, 0}, {0, 2, 3}, {0, 0, 0}, {1, 0}, {1, 0}});
+}
+
+TEST_CASE("topology: empty mesh", "[topology]") {
+  const tear::Mesh empty;
+  check_topology(empty, {0, {}, {}, {}, {}, {0}, {}, {}, {}});
+  const auto nodes_only = make_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0}, {});
+  check_topology(nodes_only, {0, {}, {}, {}, {}, {0, 0, 0, 0}, {}, {}, {0, 0, 0}});
+}
+
+TEST_CASE("topology: unused nodes have no faces and are not on the boundary", "[topology]") {
+  // Node 1 (between used ones) and node 4 (last) are used by no face.
+  const auto m = make_mesh({0, 0, 0, 9, 9, 9, 1, 0, 0, 0, 1, 0, 7, 7, 7}, {0, 2, 3});
+  check_topology(m, {3,
+                     {0, 2, 0, 3, 2, 3},
+                     {0, -1, 0, -1, 0, -1},
+                     {1, 1, 1},
+                     {2, 1, 0},
+                     {0, 1, 1, 2, 3, 3},
+                     {0, 0, 0},
+                     {1, 1, 1},
+                     {1, 0, 1, 1, 0}});
+}
+
+TEST_CASE("topology: matches the serial reference on random meshes", "[topology]") {
+  const std::uint64_t seed = tear::test::test_seed(20240611);
+  for (std::uint64_t i = 0; i < 240; ++i) {
+    const auto [name, mesh] = tear::test::random_mesh(seed + i);
+    INFO("seed " << seed + i << " (" << name << ", " << mesh.node_count() << " nodes, " << mesh.face_count()
+                 << " faces)");
+    const tear::Topology t = tear::build_topology(mesh, tear::test::test_device());
+    REQUIRE(tear::test::topology_difference(t, tear::test::reference_topology(mesh)) == "");
+  }
+}
+
+TEST_CASE("topology: renumbering nodes and faces keeps the edge and boundary counts", "[topology]") {
+  const std::uint64_t seed = tear::test::test_seed(77);
+  for (std::uint64_t i = 0; i < 30; ++i) {
+    INFO("seed " << seed + i);
+    const tear::Mesh sheet = tear::test::random_sheet(seed + i);
+    const tear::Mesh permuted = tear::test::permute_mesh(sheet, seed + i);
+    const auto device = tear::test::test_device();
+    const tear::Topology a = tear::build_topology(sheet, device), b = tear::build_topology(permuted, device);
+    CHECK(a.edge_count == b.edge_count);
+    auto sum = [](const auto& flags) {
+      index_t n = 0;
+      for (auto f : flags) n += f;
+      return n;
+    };
+    CHECK(sum(a.edge_boundary) == sum(b.edge_boundary));
+    CHECK(sum(a.node_boundary) == sum(b.node_boundary));
+    // A square sheet: Euler characteristic 1.
+    CHECK(a.node_count - a.edge_count + a.face_count == 1);
+  }
+}
+
+TEST_CASE("topology: CUDA and CPU backends agree", "[topology][parity]") {
+  if (!tear::cuda_available()) {
+    WARN("no GPU: parity not checked");
+    return;
+  }
+  const std::uint64_t seed = tear::test::test_seed(31337);
+  for (std::uint64_t i = 0; i < 200; ++i) {
+    const auto [name, mesh] = tear::test::random_mesh(seed + i);
+    INFO("seed " << seed + i << " (" << name << ")");
+    const tear::Topology cpu = tear::build_topology(mesh, tear::Device::cpu);
+    const tear::Topology cuda = tear::build_topology(mesh, tear::Device::cuda);
+    REQUIRE(tear::test::topology_difference(cuda, cpu) == "");
+    CHECK(tear::test::report_counts(tear::validate_mesh(mesh, tear::Device::cuda)) ==
+          tear::test::report_counts(tear::validate_mesh(mesh, tear::Device::cpu)));
+  }
+  // Larger meshes too, where the GPU sorts take their multi-block paths.
+  for (std::uint64_t i = 0; i < 4; ++i) {
+    INFO("large sheet, seed " << seed + i);
+    tear::SheetOptions options;
+    options.face_count = 200000 + 2 * static_cast<index_t>(i);
+    options.seed = seed + i;
+    const tear::Mesh mesh = tear::test::permute_mesh(tear::make_sheet(options), seed + i);
+    REQUIRE(tear::test::topology_difference(tear::build_topology(mesh, tear::Device::cuda),
+                                            tear::build_topology(mesh, tear::Device::cpu)) == "");
+  }
+}
