@@ -77,6 +77,7 @@ struct edge_inconsistent {
   TEAR_HD int operator()(index_t e) const {
     if (edge_face_count[e] != 2) return 0;
     const index_t f0 = edge_faces[2 * e], f1 = edge_faces[2 * e + 1];
+    if (f0 == f1) return 0;  // both sides in one face repeating a node: degenerate, not misoriented
     const int k0 = local_edge(face_edges, f0, e), k1 = local_edge(face_edges, f1, e);
     if (k0 < 0 || k1 < 0) return 0;
     const index_t a0 = face_nodes[3 * f0 + (k0 + 1) % 3], a1 = face_nodes[3 * f1 + (k1 + 1) % 3];
@@ -94,7 +95,10 @@ struct node_non_manifold {
   const index_t* node_face_offset;
   const index_t* node_faces;
   TEAR_HD int operator()(index_t n) const {
-    const index_t begin = node_face_offset[n], valence = node_face_offset[n + 1] - begin;
+    // Distinct faces (a face repeating the node is listed once per corner, adjacent in the list).
+    const index_t begin = node_face_offset[n], end = node_face_offset[n + 1];
+    index_t valence = 0;
+    for (index_t i = begin; i < end; ++i) valence += (i == begin || node_faces[i] != node_faces[i - 1]) ? 1 : 0;
     if (valence <= 1) return 0;
     const index_t start = node_faces[begin];
     index_t reached = 1;

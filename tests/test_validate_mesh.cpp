@@ -159,7 +159,7 @@ TEST_CASE("validate_mesh: degenerate faces by the area ratio", "[validate]") {
   CHECK(mentions(validate(repeated), "1 degenerate face"));
 }
 
-TEST_CASE("validate_mesh: a face repeating a node is only a degenerate face", "[validate][!mayfail]") {
+TEST_CASE("validate_mesh: a face repeating a node is only a degenerate face", "[validate]") {
   // Face (0, 0, 1) alone: its two half-edges on the pair (0, 1) run 0 -> 1 and 1 -> 0, so the
   // pair is consistently oriented, and node 0 has one face, so one fan. The device kernels count
   // the same face twice at node 0 (a bow-tie) and find the same local edge for both "faces" of
@@ -283,7 +283,7 @@ TEST_CASE("validate_mesh: well-defined counts match the reference with repeated-
 }
 
 TEST_CASE("validate_mesh: random defects are counted like the reference, repeated-node faces included",
-          "[validate][!mayfail]") {
+          "[validate]") {
   const std::uint64_t seed = tear::test::test_seed(99);
   for (std::uint64_t i = 0; i < 120; ++i) {
     const tear::Mesh mesh = tear::test::random_soup(seed + i);
