@@ -21,6 +21,12 @@ void add_info_command(CLI::App& app);
 /// `tear bench`: remesh timings on generated sheets, GPU and CPU side by side.
 void add_bench_command(CLI::App& app);
 
+/// `tear run MESH SCRIPT -o PATTERN`: a cut script applied frame by frame, one mesh file per frame.
+void add_run_command(CLI::App& app);
+
+/// `tear validate SCRIPT [MESH]`: the script's checks, and with MESH those of `tear run` against it.
+void add_validate_command(CLI::App& app);
+
 /// Adds `--device auto|cpu|cuda|cuda:N` (default auto) to `command`, stored in `spec`.
 /// Pass the result to `tear::select_device` before reading any input, so that a wrong device is a
 /// usage error whatever the input.

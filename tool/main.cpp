@@ -42,6 +42,8 @@ int main(int argc, char** argv) {
       "the options of a command; docs/cli.md describes them all.");
 
   tear::cli::add_info_command(app);
+  tear::cli::add_run_command(app);
+  tear::cli::add_validate_command(app);
   tear::cli::add_bench_command(app);
 
   try {

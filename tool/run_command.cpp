@@ -1,0 +1,96 @@
+// `tear run MESH SCRIPT -o PATTERN`: a script's cuts applied frame by frame, one mesh file per frame.
+#include <cerrno>
+#include <climits>
+#include <cstdlib>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "commands.h"
+#include "tear/cut_script.h"
+#include "tear/error.h"
+#include "tear/frame_path.h"
+#include "tear/run_cuts.h"
+
+namespace tear::cli {
+
+namespace {
+
+struct RunCommandOptions {
+  std::string mesh_path;
+  std::string script_path;
+  std::string output_pattern;
+  std::string device = "auto";
+  ReadOptions read;
+  int frames = 0;
+  bool verbose = false;
+};
+
+/// CLI11's PositiveNumber message quotes the largest double; say what is expected instead.
+std::string check_positive_int(const std::string& text) {
+  char* end = nullptr;
+  errno = 0;
+  const long value = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || end != text.c_str() + text.size() || errno != 0 || value < 1 || value > INT_MAX)
+    return "expected an integer >= 1, got '" + text + "'";
+  return {};
+}
+
+void print_frame(const FrameResult& frame, int frame_count) {
+  const CutStats& s = frame.stats;
+  std::cout << "frame " << frame.frame << '/' << frame_count << ": " << frame.cut_count
+            << (frame.cut_count == 1 ? " cut, " : " cuts, ") << s.nodes_before << " -> " << s.nodes_after << " nodes, "
+            << s.faces_before << " -> " << s.faces_after << " faces, " << frame.path << std::endl;
+  if (!std::cout) throw runtime_error("cannot write to standard output");
+}
+
+void run_run(const RunCommandOptions& options) {
+  const Device device = select_device(options.device);
+  // The pattern's syntax and the format of its extension are usage errors, found before any input is read.
+  FramePattern(options.output_pattern).check(1);
+  const Mesh mesh = read_checked_mesh(options.mesh_path, options.read, device);
+  const CutScript script = read_cut_script(options.script_path);
+
+  RunOptions run;
+  run.output_pattern = options.output_pattern;
+  run.frames = options.frames;
+  run.device = device;
+  const int frame_count = options.frames == 0 ? script.frames : options.frames;
+  if (frame_count > script.frames)
+    throw Error(ErrorKind::usage, options.script_path + ": --frames " + std::to_string(frame_count) +
+                                      " is more than the script's " + std::to_string(script.frames) + " frames");
+  if (options.verbose)
+    run.on_frame = [frame_count](const FrameResult& frame, const Cloth&) { print_frame(frame, frame_count); };
+  run_to_files(mesh, options.mesh_path, script, run);
+}
+
+}  // namespace
+
+void add_run_command(CLI::App& app) {
+  auto options = std::make_shared<RunCommandOptions>();
+  CLI::App* command = app.add_subcommand("run", "Apply a cut script to a mesh and write the mesh of every frame");
+  command->footer(
+      "Output pattern: a run of '#' is the frame number zero-padded to that many digits (out/cloth.####.obj writes "
+      "out/cloth.0001.obj, ...); {frame} and {frame:04} work too. Without a placeholder the pattern is the file "
+      "name of a single-frame run. The extension picks the format: .obj, .ply, .gltf or .glb. Folders are created. "
+      "Everything is checked before the first file is written: the mesh must be cuttable (see 'tear info'). "
+      "Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure.");
+  command->add_option("MESH", options->mesh_path, "Mesh file: OBJ, glTF, GLB, PLY or any format assimp reads")
+      ->required()
+      ->type_name("");
+  command->add_option("SCRIPT", options->script_path, "Cut script (JSON, see docs/cut-script.md)")
+      ->required()
+      ->type_name("");
+  command->add_option("-o,--output", options->output_pattern, "Output file pattern, e.g. out/cloth.####.obj")
+      ->required()
+      ->type_name("PATTERN");
+  command->add_option("--frames", options->frames, "Run only the first N frames of the script (default: all of them)")
+      ->type_name("N")
+      ->check(CLI::Validator(check_positive_int, ""));
+  command->add_flag("-v,--verbose", options->verbose, "Print one line per frame written: cuts, counts, file");
+  add_device_option(*command, options->device);
+  add_read_options(*command, options->read);
+  command->callback([options] { run_run(*options); });
+}
+
+}  // namespace tear::cli
