@@ -99,6 +99,21 @@ struct intersect_cuts {
           joined = inside_triangle(corner, area2, polyline_point(cut, point_x, point_y, event_s[e] + 0.5 * ds));
         if (joined) pairs |= std::uint16_t(1u << location_pair_bit(event_loc[e], event_loc[e + 1]));
       }
+      // A closed polyline (its last point is its first) goes on from its end into its start, so
+      // the face's last and first crossings are consecutive too; else a closed curve would leave
+      // the face holding its start uncut, a bridge of one element.
+      const index_t last_pi = cut.point_begin + cut.point_count - 1;
+      const bool closed = cut.unbounded == 0 && cut.point_count > 2 && point_x[cut.point_begin] == point_x[last_pi] &&
+                          point_y[cut.point_begin] == point_y[last_pi];
+      if (closed && event_count >= 2 && event_loc[event_count - 1] != event_loc[0]) {
+        const double length = cut.point_count - 1;
+        const double ds = event_s[0] + length - event_s[event_count - 1];
+        double mid = event_s[event_count - 1] + 0.5 * ds;
+        if (mid >= length) mid -= length;
+        bool joined = ds <= 1e-9;
+        if (!joined && area2 != 0.0) joined = inside_triangle(corner, area2, polyline_point(cut, point_x, point_y, mid));
+        if (joined) pairs |= std::uint16_t(1u << location_pair_bit(event_loc[event_count - 1], event_loc[0]));
+      }
     }
     for (int k = 0; k < 3; ++k) {
       half_hit_sum[3 * f + k] = sum[k];
