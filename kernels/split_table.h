@@ -1,10 +1,12 @@
-// tear kernels: how one face splits into new triangles, for each of its 512 cut states
-// (paper §2.3 "new faces" and §2.4 "node info / face info"). docs/split-table.md has the rule.
+// tear kernels: how one face splits into new triangles, for each of its 512 cut states and the
+// variants of its free choices (paper §2.3 "new faces" and §2.4 "node info / face info").
+// docs/split-table.md has the rule.
 //
 // Conventions: local node k (N_k) is opposite local edge k; edge k joins N_{k+1} and N_{k+2}
 // (mod 3); faces are counter-clockwise. E_k is the cut point inside edge k, P the face point.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <string>
 
@@ -82,12 +84,21 @@ TEAR_HD constexpr std::uint8_t fan_entry(int tri, int corner) { return static_ca
 TEAR_HD constexpr int fan_entry_tri(std::uint8_t entry) { return entry >> 2; }
 TEAR_HD constexpr int fan_entry_corner(std::uint8_t entry) { return entry & 3; }
 
+/// Alternative splits per state: they differ only in choices the cut lines leave free (the
+/// diagonal of a quadrilateral, the corner a polygon is fanned from), so each face can take the
+/// best-shaped one. Variant 0 is the fixed rule of docs/split-table.md.
+constexpr int max_split_variants = 4;
+constexpr int split_table_size = face_cut_state_count * max_split_variants;
+
 /// The split of a face in one cut state. Plain bytes, so the table copies to the device as is.
 struct SplitCase {
-  std::uint8_t reachable;   ///< 0 for a state no face can have (its fields are all 0)
-  std::uint8_t face_point;  ///< 1 when the face has its own cut point P
-  std::uint8_t tri_count;   ///< 1..6 new triangles (0 when unreachable)
-  std::uint8_t tri[6][3];   ///< corners of each triangle as point codes, counter-clockwise
+  /// 0 for a state no face can have (the rest 0 but variant_count 1) and for a variant slot past
+  /// variant_count (all 0)
+  std::uint8_t reachable;
+  std::uint8_t face_point;     ///< 1 when the face has its own cut point P
+  std::uint8_t tri_count;      ///< 1..6 new triangles (0 when unreachable)
+  std::uint8_t variant_count;  ///< 1..max_split_variants splits of this state (1 when unreachable)
+  std::uint8_t tri[6][3];      ///< corners of each triangle as point codes, counter-clockwise
   /// Bit s of tri_cut[t]: side s of triangle t (opposite its corner s) lies on a piece of a cut line.
   std::uint8_t tri_cut[6];
   /// Rotational fans, per point slot: the triangle corners at that point in counter-clockwise order.
@@ -102,9 +113,73 @@ struct SplitCase {
   std::uint8_t fan_cut[7];
 };
 
-/// The split of every face cut state, indexed by state (512 entries, host memory; built at compile
-/// time). The remesher copies it to the device once.
+/// A face's split code (the remesher's `face_state`): the 9-bit cut state, and in bits 9..10 the
+/// variant of its split. It is also the split's index in the table: variant-major, so variant 0 of
+/// every state comes first, at the index of the plain state.
+constexpr int split_variant_shift = 9;
+TEAR_HD constexpr std::uint16_t face_split_code(unsigned state, int variant) {
+  return static_cast<std::uint16_t>(state | static_cast<unsigned>(variant) << split_variant_shift);
+}
+TEAR_HD constexpr unsigned face_split_state(unsigned code) { return code & (face_cut_state_count - 1u); }
+TEAR_HD constexpr int face_split_variant(unsigned code) { return static_cast<int>(code >> split_variant_shift); }
+static_assert(face_split_code(face_cut_state_count - 1, max_split_variants - 1) == split_table_size - 1,
+              "split codes index the table");
+
+/// The split of every face cut state and variant, at face_split_code(state, variant)
+/// (split_table_size entries, host memory; built at compile time). The remesher copies it to the
+/// device once.
 const SplitCase* split_table();
+
+/// The split a face takes, from its split code.
+TEAR_HD inline const SplitCase& split_case(const SplitCase* table, unsigned code) { return table[code]; }
+
+/// Cosine of the smallest corner angle of a split (the largest cosine over its triangle corners:
+/// a triangle's smallest angle is below 60 degrees, where the cosine decreases). `point_pos` holds
+/// the positions of the 7 point slots; a zero-length side counts as a zero angle.
+TEAR_HD inline double split_worst_cosine(const SplitCase& c, const double (*point_pos)[3]) {
+  double worst = -1.0;
+  for (int t = 0; t < c.tri_count; ++t) {
+    for (int s = 0; s < 3; ++s) {
+      const double* p = point_pos[point_slot(c.tri[t][s])];
+      const double* a = point_pos[point_slot(c.tri[t][(s + 1) % 3])];
+      const double* b = point_pos[point_slot(c.tri[t][(s + 2) % 3])];
+      double uv = 0, uu = 0, vv = 0;
+      for (int d = 0; d < 3; ++d) {
+        const double u = a[d] - p[d], v = b[d] - p[d];
+        uv += u * v;
+        uu += u * u;
+        vv += v * v;
+      }
+      const double length = sqrt(uu * vv);
+      const double cosine = length > 0.0 ? uv / length : 1.0;
+      worst = cosine > worst ? cosine : worst;
+    }
+  }
+  return worst;
+}
+
+/// A variant must beat the best so far by this much (in cosine) to be taken, so exact ties (a
+/// symmetric face, common on regular meshes) keep the lower variant whatever the rounding: the
+/// choice, hence the topology, can differ between the CPU and the GPU (fused multiply-adds) only
+/// when two variants differ by about the margin itself.
+constexpr double split_variant_margin = 1e-9;
+
+/// The variant of `state` whose smallest triangle angle is largest, on the positions of the face's
+/// 7 point slots (N0..N2, E0..E2, P; absent points are not read). Ties go to the lowest variant.
+TEAR_HD inline int best_split_variant(const SplitCase* table, unsigned state, const double (*point_pos)[3]) {
+  const int count = table[face_split_code(state, 0)].variant_count;
+  if (count <= 1) return 0;
+  int best = 0;
+  double best_cosine = split_worst_cosine(table[face_split_code(state, 0)], point_pos);
+  for (int v = 1; v < count; ++v) {
+    const double cosine = split_worst_cosine(table[face_split_code(state, v)], point_pos);
+    if (cosine < best_cosine - split_variant_margin) {
+      best = v;
+      best_cosine = cosine;
+    }
+  }
+  return best;
+}
 
 /// The bits of a face cut state by name, e.g. "E0 E1 EN0 EE2" ("none" for 0), for messages.
 std::string to_string_state(int state);

@@ -157,6 +157,30 @@ std::vector<int> reachable_states() {
   return states;
 }
 
+const SplitCase& split_of(int state, int variant) {
+  return tear::kernels::split_table()[tear::kernels::face_split_code(state, variant)];
+}
+
+/// Every split of every reachable state: (state, variant).
+std::vector<std::pair<int, int>> reachable_splits() {
+  std::vector<std::pair<int, int>> splits;
+  for (int state : reachable_states())
+    for (int v = 0; v < split_of(state, 0).variant_count; ++v) splits.push_back({state, v});
+  return splits;
+}
+
+/// The triangles of a split as rotation-free keys (corners rotated to start at the lowest code).
+std::set<std::vector<int>> triangle_set(const SplitCase& c) {
+  std::set<std::vector<int>> tris;
+  for (int t = 0; t < c.tri_count; ++t) {
+    int first = 0;
+    for (int s = 1; s < 3; ++s)
+      if (c.tri[t][s] < c.tri[t][first]) first = s;
+    tris.insert({c.tri[t][first], c.tri[t][(first + 1) % 3], c.tri[t][(first + 2) % 3]});
+  }
+  return tris;
+}
+
 /// Counter-clockwise angle from direction `from` to direction `to`, in [0, 2 pi).
 double ccw_angle(Vec2 from, Vec2 to) {
   double angle = std::atan2(cross(from, to), dot(from, to));
@@ -181,19 +205,43 @@ TEST_CASE("split_table: reachable states are marked and the rest are empty", "[s
   }
   CHECK(expected == 95);
   int reachable_count = 0;
+  const auto is_empty = [](const SplitCase& c) {
+    bool empty = c.reachable == 0 && c.tri_count == 0 && c.face_point == 0;
+    for (int p = 0; p < 7; ++p) empty = empty && c.fan_count[p] == 0 && c.fan_cut[p] == 0;
+    for (int t = 0; t < 6; ++t) empty = empty && c.tri_cut[t] == 0;
+    return empty;
+  };
   for (int state = 0; state < tear::kernels::face_cut_state_count; ++state) {
     INFO("state " << state << ": " << to_string_state(state));
-    const SplitCase& c = table[state];
+    const SplitCase& c = table[tear::kernels::face_split_code(state, 0)];
     CHECK(bool(c.reachable) == reachable(state));
     CHECK(tear::kernels::is_reachable_face_cut(state) == reachable(state));
+    const int variants = c.variant_count;
+    CHECK(variants >= 1);
+    CHECK(variants <= tear::kernels::max_split_variants);
     if (c.reachable) {
       ++reachable_count;
-      CHECK(c.tri_count >= 1);
-      CHECK(c.tri_count <= 6);
+      for (int v = 0; v < variants; ++v) {
+        INFO("variant " << v);
+        const SplitCase& cv = table[tear::kernels::face_split_code(state, v)];
+        CHECK(cv.reachable == 1);
+        CHECK(cv.variant_count == variants);
+        CHECK(cv.tri_count >= 1);
+        CHECK(cv.tri_count <= 6);
+      }
     } else {
-      CHECK(c.tri_count == 0);
-      CHECK(c.face_point == 0);
-      for (int p = 0; p < 7; ++p) CHECK(c.fan_count[p] == 0);
+      CHECK(variants == 1);
+      CHECK(c.variant_count == 1);
+      SplitCase copy = c;
+      copy.variant_count = 0;
+      CHECK(is_empty(copy));
+    }
+    // Unused variant slots hold nothing, so a wrong index shows up as a face without triangles.
+    for (int v = variants; v < tear::kernels::max_split_variants; ++v) {
+      INFO("unused variant " << v);
+      const SplitCase& cv = table[tear::kernels::face_split_code(state, v)];
+      CHECK(cv.variant_count == 0);
+      CHECK(is_empty(cv));
     }
   }
   CHECK(reachable_count == expected);
@@ -202,24 +250,22 @@ TEST_CASE("split_table: reachable states are marked and the rest are empty", "[s
 }
 
 TEST_CASE("split_table: a face point exactly where the lines cross", "[split]") {
-  const SplitCase* table = tear::kernels::split_table();
   for (const Geometry& g : geometries) {
-    for (int state : reachable_states()) {
-      INFO(g.name << ", state " << state << ": " << to_string_state(state));
+    for (const auto& [state, variant] : reachable_splits()) {
+      INFO(g.name << ", state " << state << ": " << to_string_state(state) << ", variant " << variant);
       const Face f(state, g.node_pos, g.edge_t);
-      CHECK(bool(table[state].face_point) == f.lines_cross);
+      CHECK(bool(split_of(state, variant).face_point) == f.lines_cross);
       CHECK(tear::kernels::has_face_point(state) == f.lines_cross);
     }
   }
 }
 
 TEST_CASE("split_table: triangles tile the face, counter-clockwise, without T-junctions", "[split]") {
-  const SplitCase* table = tear::kernels::split_table();
   for (const Geometry& g : geometries) {
-    for (int state : reachable_states()) {
-      INFO(g.name << ", state " << state << ": " << to_string_state(state));
+    for (const auto& [state, variant] : reachable_splits()) {
+      INFO(g.name << ", state " << state << ": " << to_string_state(state) << ", variant " << variant);
       const Face f(state, g.node_pos, g.edge_t);
-      const SplitCase& c = table[state];
+      const SplitCase& c = split_of(state, variant);
 
       // Corners are present, distinct points; areas positive and summing to the face.
       bool corners_valid = true;
@@ -289,11 +335,10 @@ TEST_CASE("split_table: triangles tile the face, counter-clockwise, without T-ju
 }
 
 TEST_CASE("split_table: every cut-line piece is a triangle side, and tri_cut marks exactly those", "[split]") {
-  const SplitCase* table = tear::kernels::split_table();
-  for (int state : reachable_states()) {
-    INFO("state " << state << ": " << to_string_state(state));
+  for (const auto& [state, variant] : reachable_splits()) {
+    INFO("state " << state << ": " << to_string_state(state) << ", variant " << variant);
     const Face f(state, geometries[1].node_pos, geometries[1].edge_t);
-    const SplitCase& c = table[state];
+    const SplitCase& c = split_of(state, variant);
     std::set<Side> sides;
     for (int t = 0; t < c.tri_count; ++t) {
       for (int s = 0; s < 3; ++s) {
@@ -313,12 +358,11 @@ TEST_CASE("split_table: every cut-line piece is a triangle side, and tri_cut mar
 }
 
 TEST_CASE("split_table: fans list the corners at each point counter-clockwise", "[split]") {
-  const SplitCase* table = tear::kernels::split_table();
   for (const Geometry& g : geometries) {
-    for (int state : reachable_states()) {
-      INFO(g.name << ", state " << state << ": " << to_string_state(state));
+    for (const auto& [state, variant] : reachable_splits()) {
+      INFO(g.name << ", state " << state << ": " << to_string_state(state) << ", variant " << variant);
       const Face f(state, g.node_pos, g.edge_t);
-      const SplitCase& c = table[state];
+      const SplitCase& c = split_of(state, variant);
       for (int slot = 0; slot < 7; ++slot) {
         const int code = tear::kernels::slot_point_code(slot);
         INFO("point code " << code);
@@ -371,10 +415,9 @@ TEST_CASE("split_table: fans list the corners at each point counter-clockwise", 
 }
 
 TEST_CASE("split_table: triangle counts follow the paper's cases", "[split]") {
-  const SplitCase* table = tear::kernels::split_table();
-  for (int state : reachable_states()) {
-    INFO("state " << state << ": " << to_string_state(state));
-    const SplitCase& c = table[state];
+  for (const auto& [state, variant] : reachable_splits()) {
+    INFO("state " << state << ": " << to_string_state(state) << ", variant " << variant);
+    const SplitCase& c = split_of(state, variant);
     const int points = edge_point_count(state);
     const int edge_node_lines = edge_node_line_count(state), edge_edge_lines = edge_edge_line_count(state);
     if (c.face_point) {
@@ -389,29 +432,31 @@ TEST_CASE("split_table: triangle counts follow the paper's cases", "[split]") {
       CHECK(c.tri_count == 1 + points);  // no lines: 1, 1->2, 1->3, 1->4
     }
   }
-  CHECK(table[0].tri_count == 1);
-  CHECK(table[0].tri[0][0] == node(0));
-  CHECK(table[0].tri[0][1] == node(1));
-  CHECK(table[0].tri[0][2] == node(2));
+  CHECK(split_of(0, 0).variant_count == 1);
+  CHECK(split_of(0, 0).tri_count == 1);
+  CHECK(split_of(0, 0).tri[0][0] == node(0));
+  CHECK(split_of(0, 0).tri[0][1] == node(1));
+  CHECK(split_of(0, 0).tri[0][2] == node(2));
 
-  // Two or three EE lines: the 1-to-4 pattern (three corners and the middle triangle E0 E1 E2);
-  // with two, the diagonal rule picks the side E0-E1 that completes it.
+  // Three edge points without lines, or two or three EE lines: the 1-to-4 pattern (three corners
+  // and the middle triangle E0 E1 E2) as variant 0; with two EE lines, the diagonal rule picks the
+  // side that completes it.
   const std::set<std::set<int>> one_to_four{{node(0), edge(2), edge(1)},
                                             {node(1), edge(0), edge(2)},
                                             {node(2), edge(1), edge(0)},
                                             {edge(0), edge(1), edge(2)}};
   using namespace tear::kernels::face_cut;
-  for (int state : {e0 | e1 | e2 | ee0 | ee1 | ee2, e0 | e1 | e2 | ee0 | ee1, e0 | e1 | e2 | ee2}) {
+  for (int state : {e0 | e1 | e2, e0 | e1 | e2 | ee0 | ee1 | ee2, e0 | e1 | e2 | ee0 | ee1, e0 | e1 | e2 | ee1 | ee2,
+                    e0 | e1 | e2 | ee2}) {
     INFO("state " << to_string_state(state));
+    const SplitCase& c = split_of(state, 0);
     std::set<std::set<int>> tris;
-    for (int t = 0; t < table[state].tri_count; ++t)
-      tris.insert({table[state].tri[t][0], table[state].tri[t][1], table[state].tri[t][2]});
+    for (int t = 0; t < c.tri_count; ++t) tris.insert({c.tri[t][0], c.tri[t][1], c.tri[t][2]});
     CHECK(tris == one_to_four);
   }
 }
 
 TEST_CASE("split_table: the documented choices among valid splits", "[split]") {
-  const SplitCase* table = tear::kernels::split_table();
   using namespace tear::kernels::face_cut;
   const int edge_point_bit[3] = {e0, e1, e2}, edge_edge_bit[3] = {ee0, ee1, ee2};
   for (int k = 0; k < 3; ++k) {
@@ -419,7 +464,7 @@ TEST_CASE("split_table: the documented choices among valid splits", "[split]") {
     // diagonal is N_{k+1}-E_{k+1}.
     const int state = edge_point_bit[(k + 1) % 3] | edge_point_bit[(k + 2) % 3] | edge_edge_bit[k];
     INFO("state " << to_string_state(state));
-    const SplitCase& c = table[state];
+    const SplitCase& c = split_of(state, 0);
     int diagonal_sides = 0;
     for (int t = 0; t < c.tri_count; ++t)
       for (int s = 0; s < 3; ++s)
@@ -427,12 +472,169 @@ TEST_CASE("split_table: the documented choices among valid splits", "[split]") {
             unordered(c.tri[t][(s + 1) % 3], c.tri[t][(s + 2) % 3]) == unordered(node(k + 1), edge(k + 1));
     CHECK(diagonal_sides == 2);
   }
-  // Without lines, the fan starts from the flat edge point with the lowest index.
-  for (int state = 1; state < 8; ++state) {
+  // One or two edge points without lines: the fan starts from the flat edge point with the lowest
+  // index (three take the 1-to-4 pattern, above).
+  for (int state = 1; state < 7; ++state) {
     INFO("state " << to_string_state(state));
     const int lowest = (state & 1) ? 0 : (state & 2) ? 1 : 2;
-    const SplitCase& c = table[state];
+    const SplitCase& c = split_of(state, 0);
     for (int t = 0; t < c.tri_count; ++t)
       CHECK((c.tri[t][0] == edge(lowest) || c.tri[t][1] == edge(lowest) || c.tri[t][2] == edge(lowest)));
   }
+}
+
+TEST_CASE("split_table: variants of a state are distinct and differ only in the free choices", "[split]") {
+  using namespace tear::kernels::face_cut;
+  for (int state : reachable_states()) {
+    INFO("state " << state << ": " << to_string_state(state));
+    const int variants = split_of(state, 0).variant_count;
+    for (int v = 0; v < variants; ++v) {
+      for (int u = 0; u < v; ++u) {
+        INFO("variants " << u << " and " << v);
+        CHECK(triangle_set(split_of(state, u)) != triangle_set(split_of(state, v)));
+        CHECK(split_of(state, u).face_point == split_of(state, v).face_point);
+      }
+    }
+    // With P the fan around it leaves no choice.
+    if (tear::kernels::has_face_point(state)) CHECK(variants == 1);
+  }
+
+  // The free choices: both diagonals of the quadrilateral EE_k leaves without E_k; the fan apex
+  // among two flat edge points; the 1-to-4 pattern or a fan from any of three flat edge points.
+  const int edge_point_bit[3] = {e0, e1, e2}, edge_edge_bit[3] = {ee0, ee1, ee2};
+  for (int k = 0; k < 3; ++k) {
+    const int state = edge_point_bit[(k + 1) % 3] | edge_point_bit[(k + 2) % 3] | edge_edge_bit[k];
+    INFO("state " << to_string_state(state));
+    REQUIRE(split_of(state, 0).variant_count == 2);
+    const std::vector<int> diagonal_0{std::min(node(k + 1), edge(k + 1)), std::max(node(k + 1), edge(k + 1))};
+    const std::vector<int> diagonal_1{std::min(node(k + 2), edge(k + 2)), std::max(node(k + 2), edge(k + 2))};
+    for (int v = 0; v < 2; ++v) {
+      std::set<std::vector<int>> sides;
+      const SplitCase& c = split_of(state, v);
+      for (int t = 0; t < c.tri_count; ++t)
+        for (int s = 0; s < 3; ++s) {
+          const int a = c.tri[t][s], b = c.tri[t][(s + 1) % 3];
+          sides.insert({std::min(a, b), std::max(a, b)});
+        }
+      CHECK(sides.count(v == 0 ? diagonal_0 : diagonal_1) == 1);
+      CHECK(sides.count(v == 0 ? diagonal_1 : diagonal_0) == 0);
+    }
+  }
+  for (int state = 1; state < 8; ++state) {
+    INFO("state " << to_string_state(state));
+    const int points = edge_point_count(state);
+    CHECK(split_of(state, 0).variant_count == (points == 1 ? 1 : points == 2 ? 2 : 4));
+    // Variants after the first are fans from the flat edge points, lowest index first.
+    int v = points == 3 ? 1 : 0;
+    for (int k = 0; k < 3; ++k) {
+      if (!has_edge_point(state, k)) continue;
+      INFO("fan from E" << k << " as variant " << v);
+      const SplitCase& c = split_of(state, v++);
+      int uses = 0;
+      for (int t = 0; t < c.tri_count; ++t)
+        uses += c.tri[t][0] == edge(k) || c.tri[t][1] == edge(k) || c.tri[t][2] == edge(k);
+      CHECK(uses == c.tri_count);
+    }
+  }
+}
+
+TEST_CASE("split_table: a face's split code carries its state and variant", "[split]") {
+  using namespace tear::kernels;
+  const SplitCase* table = split_table();
+  std::set<unsigned> codes;
+  for (int state : reachable_states()) {
+    INFO("state " << state << ": " << to_string_state(state));
+    // Variant 0 sits at the plain state, so a face state without variant bits takes the rule's split.
+    CHECK(face_split_code(state, 0) == static_cast<unsigned>(state));
+    for (int v = 0; v < split_of(state, 0).variant_count; ++v) {
+      const unsigned code = face_split_code(state, v);
+      CHECK(face_split_state(code) == static_cast<unsigned>(state));
+      CHECK(face_split_variant(code) == v);
+      CHECK(code < static_cast<unsigned>(split_table_size));
+      CHECK(split_case(table, code).reachable == 1);
+      codes.insert(code);
+    }
+  }
+  CHECK(codes.size() == reachable_splits().size());
+}
+
+namespace {
+
+/// The smallest corner angle (degrees) of a split laid out on a face, from the test's own geometry.
+double smallest_angle_deg(const SplitCase& c, const Face& f) {
+  double smallest = 180;
+  for (int t = 0; t < c.tri_count; ++t)
+    for (int s = 0; s < 3; ++s) {
+      const Vec2 p = f.at(c.tri[t][s]);
+      const Vec2 a = f.at(c.tri[t][(s + 1) % 3]) - p, b = f.at(c.tri[t][(s + 2) % 3]) - p;
+      smallest = std::min(smallest, std::abs(std::atan2(cross(a, b), dot(a, b))) * 180 / pi);
+    }
+  return smallest;
+}
+
+/// The face's points in 3D slots, on a tilted plane (a rotation and a shift keep every angle).
+void point_slots_3d(const Face& f, double (*pos)[3]) {
+  const double u[3] = {0.6, 0.0, 0.8}, v[3] = {0.0, 1.0, 0.0}, shift[3] = {10.0, -3.0, 2.5};
+  for (int slot = 0; slot < tear::kernels::face_point_slot_count; ++slot) {
+    const int code = tear::kernels::slot_point_code(slot);
+    // Absent points get a value that would ruin any angle they took part in.
+    const Vec2 q = f.present(code) ? f.at(code) : Vec2{1e6, -1e6};
+    for (int d = 0; d < 3; ++d) pos[slot][d] = shift[d] + q.x * u[d] + q.y * v[d];
+  }
+}
+
+}  // namespace
+
+TEST_CASE("split_table: best_split_variant takes the split with the largest smallest angle", "[split]") {
+  const SplitCase* table = tear::kernels::split_table();
+  int improved = 0;
+  for (const Geometry& g : geometries) {
+    for (int state : reachable_states()) {
+      INFO(g.name << ", state " << state << ": " << to_string_state(state));
+      const Face f(state, g.node_pos, g.edge_t);
+      double pos[7][3];
+      point_slots_3d(f, pos);
+      const int chosen = tear::kernels::best_split_variant(table, state, pos);
+      const int variants = split_of(state, 0).variant_count;
+      REQUIRE(chosen >= 0);
+      REQUIRE(chosen < variants);
+      const double chosen_angle = smallest_angle_deg(split_of(state, chosen), f);
+      for (int v = 0; v < variants; ++v) {
+        INFO("variant " << v << " against the chosen " << chosen);
+        const double angle = smallest_angle_deg(split_of(state, v), f);
+        CHECK(angle <= chosen_angle + 1e-6);
+        if (v < chosen) CHECK(angle < chosen_angle - 1e-9);  // a lower variant only loses when worse
+      }
+      improved += chosen != 0;
+    }
+  }
+  CHECK(improved > 0);  // the geometries above do prefer other variants somewhere
+
+  // Ties keep variant 0: a square's quadrilateral with its edge points at midpoints is symmetric.
+  using namespace tear::kernels::face_cut;
+  const Geometry right{"right isosceles", {{0, 0}, {1, 0}, {0, 1}}, {0.5, 0.5, 0.5}};
+  const int state = e1 | e2 | ee0;
+  const Face f(state, right.node_pos, right.edge_t);
+  double pos[7][3];
+  point_slots_3d(f, pos);
+  CHECK(smallest_angle_deg(split_of(state, 0), f) == Approx(smallest_angle_deg(split_of(state, 1), f)));
+  CHECK(tear::kernels::best_split_variant(table, state, pos) == 0);
+
+  // A long quadrilateral takes the diagonal that avoids the sliver, whichever variant that is. EE0
+  // without E0 leaves E2 N1 N2 E1; variant 0 takes N1-E1, variant 1 N2-E2.
+  std::set<int> chosen;
+  for (const Geometry& g : {Geometry{"long along edge 2", {{0, 0}, {10, 0}, {0, 1}}, {0.5, 0.5, 0.5}},
+                            Geometry{"long along edge 1", {{0, 0}, {1, 0}, {0, 10}}, {0.5, 0.5, 0.5}}}) {
+    INFO(g.name);
+    const Face lf(state, g.node_pos, g.edge_t);
+    point_slots_3d(lf, pos);
+    const double angle_0 = smallest_angle_deg(split_of(state, 0), lf),
+                 angle_1 = smallest_angle_deg(split_of(state, 1), lf);
+    INFO("smallest angles " << angle_0 << " and " << angle_1);
+    REQUIRE(std::abs(angle_0 - angle_1) > 1.0);
+    const int best = tear::kernels::best_split_variant(table, state, pos);
+    CHECK(best == (angle_0 > angle_1 ? 0 : 1));
+    chosen.insert(best);
+  }
+  CHECK(chosen == std::set<int>{0, 1});
 }
