@@ -37,7 +37,7 @@ struct count_face_copies {
   SectorMesh mesh;
   index_t* face_new_count;
   TEAR_HD void operator()(index_t f) const {
-    if (!mesh.table[mesh.face_state[f]].face_point) {
+    if (!split_case(mesh.table, mesh.face_state[f]).face_point) {
       face_new_count[f] = 0;
       return;
     }
@@ -52,7 +52,7 @@ struct count_new_faces {
   const std::uint16_t* face_state;
   const SplitCase* table;
   index_t* face_new_face_count;
-  TEAR_HD void operator()(index_t f) const { face_new_face_count[f] = table[face_state[f]].tri_count; }
+  TEAR_HD void operator()(index_t f) const { face_new_face_count[f] = split_case(table, face_state[f]).tri_count; }
 };
 
 }  // namespace tear::kernels

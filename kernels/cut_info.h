@@ -79,7 +79,8 @@ TEAR_HD inline bool cross_bary(const double* a0, const double* a1, const double*
 inline constexpr double face_point_min_bary = 0.1;
 
 /// Per face: resolves the pairs of crossing places into cut lines once edge points are snapped.
-/// Writes the 9-bit face cut state (split_table.h), the along-edge lines this face sees
+/// Writes the face's split code (split_table.h: the 9-bit cut state and the split variant whose
+/// triangles are best shaped on the rest shape), the along-edge lines this face sees
 /// (`face_along` bits 2k, 2k+1: the half of local edge k at local node k+1 / k+2), and the face
 /// point's barycentric coordinates when the state has one.
 struct face_cut_info {
@@ -91,6 +92,8 @@ struct face_cut_info {
   std::uint16_t* face_state;
   std::uint8_t* face_along;
   float* face_point_bary;  ///< [face_count * 3]
+  const float* node_rest;  ///< [node_count * 3]
+  const SplitCase* table;  ///< [split_table_size]
 
   TEAR_HD void operator()(index_t f) const {
     // Where each crossing place ended up: 0..2 node k, 3..5 edge point k, -1 nowhere.
@@ -138,7 +141,6 @@ struct face_cut_info {
           along |= std::uint8_t(3u << (2 * k));
         }
       }
-    face_state[f] = state;
     face_along[f] = along;
 
     double bary[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
@@ -171,6 +173,27 @@ struct face_cut_info {
       for (int i = 0; i < 3; ++i) bary[i] /= total;
     }
     for (int i = 0; i < 3; ++i) face_point_bary[3 * f + i] = static_cast<float>(bary[i]);
+
+    // A per-face choice on the rest shape, so it does not flip as the cloth moves.
+    int variant = 0;
+    if (table[face_split_code(state, 0)].variant_count > 1) {
+      double point_pos[face_point_slot_count][3];
+      for (int slot = 0; slot < face_point_slot_count; ++slot) {
+        double b[3] = {0, 0, 0};
+        if (slot < 3)
+          b[slot] = 1.0;
+        else if (slot < 6)
+          edge_point_bary(slot - 3, t_local[slot - 3], b);
+        else
+          for (int i = 0; i < 3; ++i) b[i] = face_point_bary[3 * f + i];
+        for (int d = 0; d < 3; ++d) {
+          point_pos[slot][d] = 0;
+          for (int i = 0; i < 3; ++i) point_pos[slot][d] += b[i] * node_rest[3 * face_nodes[3 * f + i] + d];
+        }
+      }
+      variant = best_split_variant(table, state, point_pos);
+    }
+    face_state[f] = face_split_code(state, variant);
   }
 };
 

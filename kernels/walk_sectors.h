@@ -23,7 +23,7 @@ struct SectorMesh {
   const index_t* edge_faces;
   const index_t* node_face_offset;
   const index_t* node_faces;
-  const std::uint16_t* face_state;
+  const std::uint16_t* face_state;  ///< split codes: cut state and split variant (split_table.h)
   const std::uint8_t* edge_cut;
   const SplitCase* table;
 };
@@ -40,7 +40,7 @@ TEAR_HD inline bool edge_half_cut(const SectorMesh& m, index_t e, index_t n) {
 /// Visits the fan of point `slot` inside face f.
 template <class Visitor>
 TEAR_HD inline void walk_face_fan(const SectorMesh& m, index_t f, int slot, Visitor& visit) {
-  const SplitCase& c = m.table[m.face_state[f]];
+  const SplitCase& c = split_case(m.table, m.face_state[f]);
   const int count = c.fan_count[slot];
   for (int i = 0; i < count; ++i) {
     visit.corner(f, c.fan[slot][i]);
@@ -95,7 +95,7 @@ TEAR_HD inline bool walk_edge_point(const SectorMesh& m, index_t e, Visitor& vis
 /// Walks around the cut point of face f (which has one): always closed.
 template <class Visitor>
 TEAR_HD inline bool walk_face_point(const SectorMesh& m, index_t f, Visitor& visit) {
-  const SplitCase& c = m.table[m.face_state[f]];
+  const SplitCase& c = split_case(m.table, m.face_state[f]);
   const int count = c.fan_count[6];
   for (int i = 0; i < count; ++i) {
     visit.corner(f, c.fan[6][i]);

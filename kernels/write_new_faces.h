@@ -43,7 +43,7 @@ struct write_new_faces {
   float* new_corner_uv;
   float* new_corner_normal;
   TEAR_HD void operator()(index_t f) const {
-    const SplitCase& c = table[face_state[f]];
+    const SplitCase& c = split_case(table, face_state[f]);
     for (int t = 0; t < c.tri_count; ++t) {
       const index_t nf = face_tri_offset[f] + t;
       new_face_parent[nf] = f;

@@ -57,7 +57,7 @@ class ClothEngine final : public Cloth::Engine {
         face_nodes_(mesh.face_nodes.begin(), mesh.face_nodes.end()),
         corner_uv_(mesh.corner_uv.begin(), mesh.corner_uv.end()),
         corner_normal_(mesh.corner_normal.begin(), mesh.corner_normal.end()),
-        table_(kernels::split_table(), kernels::split_table() + 512) {
+        table_(kernels::split_table(), kernels::split_table() + kernels::split_table_size) {
     build_device_topology(topo_, face_nodes_, mesh.node_count());
   }
 
@@ -195,7 +195,8 @@ void ClothEngine<System>::run_cut(const std::vector<CutLine>& cuts, const CutOpt
   face_point_bary_.resize(3 * std::size_t(f_count));
   for_each_index(f_count, face_cut_info{raw<index_t>(face_nodes_), raw<index_t>(topo_.face_edges), raw<std::uint16_t>(face_pairs_),
                                         raw<std::uint8_t>(edge_point_), raw<float>(edge_point_t_), raw<std::uint16_t>(face_state_),
-                                        raw<std::uint8_t>(face_along_), raw<float>(face_point_bary_)});
+                                        raw<std::uint8_t>(face_along_), raw<float>(face_point_bary_),
+                                        raw<float>(node_rest_), raw<SplitCase>(table_)});
   edge_cut_.resize(e_count);
   for_each_index(e_count, edge_cut_info{raw<index_t>(face_nodes_), raw<index_t>(topo_.edge_faces), raw<index_t>(topo_.edge_nodes),
                                         raw<index_t>(topo_.face_edges), raw<std::uint8_t>(face_along_), raw<std::uint8_t>(edge_cut_)});
