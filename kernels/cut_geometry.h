@@ -40,6 +40,13 @@ TEAR_HD inline double dot(Vec2 a, Vec2 b) { return a.x * b.x + a.y * b.y; }
 /// far below any snap tolerance, and far above float rounding of node positions.
 inline constexpr double on_line_tolerance = 1e-5;
 
+/// Node coordinates are floats, so a node an earlier cut placed exactly on a line is off it by
+/// the rounding of its coordinates: a few float ulps of their magnitude. On an edge short next to
+/// its distance from the origin (a sliver left with snap 0, a small cloth far from the origin)
+/// that exceeds on_line_tolerance x its length, and retracing the tear would split it again.
+/// So a point this close, relative to the coordinates' magnitude, counts as on the line too.
+inline constexpr double on_line_float_tolerance = 4 * 1.1920928955078125e-7;  // 4 ulps of a float
+
 /// The crossing of mesh edge a→b with cut segment p→q, whose parameter range along p→q is
 /// [s_lo, s_hi) (s_hi included when `s_hi_closed`). On success `t` is the parameter along a→b in
 /// [0, 1] (0 or 1 exactly when the line passes through an end) and `s` the one along p→q.
@@ -54,7 +61,8 @@ TEAR_HD inline bool cross_edge(Vec2 a, Vec2 b, Vec2 p, Vec2 q, double s_lo, doub
   if (dir_len2 == 0.0 || ab_len == 0.0) return false;
   const double dir_len = sqrt(dir_len2);
   const double da = cross(dir, a - p) / dir_len, db = cross(dir, b - p) / dir_len;
-  const double tol = on_line_tolerance * ab_len;
+  const double magnitude = fmax(fmax(fabs(a.x), fabs(a.y)), fmax(fabs(b.x), fabs(b.y)));
+  const double tol = on_line_tolerance * ab_len + on_line_float_tolerance * magnitude;
   const bool a_on = da <= tol && da >= -tol, b_on = db <= tol && db >= -tol;
   if (a_on && b_on) return false;
   if (a_on)
@@ -67,7 +75,7 @@ TEAR_HD inline bool cross_edge(Vec2 a, Vec2 b, Vec2 p, Vec2 q, double s_lo, doub
     return false;
   const Vec2 x = a + t * ab;
   s = dot(x - p, dir) / dir_len2;
-  const double s_tol = on_line_tolerance * ab_len / dir_len;
+  const double s_tol = tol / dir_len;
   if (s < s_lo - s_tol) return false;
   return s_hi_closed ? s <= s_hi + s_tol : s < s_hi - s_tol;
 }
