@@ -222,4 +222,42 @@ struct edge_cut_info {
   }
 };
 
+/// Per edge: drops a cut point that no cut line uses: no line of either face ends at it and no
+/// cut runs along the edge to it. Such a point would only split faces: a cut crossing one edge and
+/// ending in the next face, or a cut crossing a border edge whose line in the face then runs
+/// along the border (a tear retraced where snapping had moved it off the drawn line).
+struct drop_unused_edge_points {
+  const index_t* edge_faces;
+  const index_t* face_edges;
+  const std::uint16_t* face_state;
+  const std::uint8_t* edge_cut;
+  std::uint8_t* edge_point;
+  TEAR_HD void operator()(index_t e) const {
+    if (edge_point[e] != edge_point_inside || edge_cut[e] != 0) return;
+    for (int side = 0; side < 2; ++side) {
+      const index_t f = edge_faces[2 * e + side];
+      if (f < 0) continue;
+      const int k = local_edge_of(face_edges, f, e);
+      const unsigned lines =
+          face_cut_edge_node_line(k) | face_cut_edge_edge_line((k + 1) % 3) | face_cut_edge_edge_line((k + 2) % 3);
+      if (face_split_state(face_state[f]) & lines) return;
+    }
+    edge_point[e] = edge_point_none;
+  }
+};
+
+/// Per face: runs `face_cut_info` again on a face that lost an edge point to
+/// `drop_unused_edge_points`. None of its lines used that point, so the edges' cut info stands.
+struct refresh_face_cut_info {
+  face_cut_info info;
+  TEAR_HD void operator()(index_t f) const {
+    const unsigned state = face_split_state(info.face_state[f]);
+    for (int k = 0; k < 3; ++k)
+      if ((state & face_cut_edge_point(k)) && info.edge_point[info.face_edges[3 * f + k]] != edge_point_inside) {
+        info(f);
+        return;
+      }
+  }
+};
+
 }  // namespace tear::kernels

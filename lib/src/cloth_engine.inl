@@ -193,13 +193,19 @@ void ClothEngine<System>::run_cut(const std::vector<CutLine>& cuts, const CutOpt
   face_state_.resize(f_count);
   face_along_.resize(f_count);
   face_point_bary_.resize(3 * std::size_t(f_count));
-  for_each_index(f_count, face_cut_info{raw<index_t>(face_nodes_), raw<index_t>(topo_.face_edges), raw<std::uint16_t>(face_pairs_),
-                                        raw<std::uint8_t>(edge_point_), raw<float>(edge_point_t_), raw<std::uint16_t>(face_state_),
-                                        raw<std::uint8_t>(face_along_), raw<float>(face_point_bary_),
-                                        raw<float>(node_rest_), raw<SplitCase>(table_)});
+  const face_cut_info face_info{raw<index_t>(face_nodes_), raw<index_t>(topo_.face_edges), raw<std::uint16_t>(face_pairs_),
+                                raw<std::uint8_t>(edge_point_), raw<float>(edge_point_t_), raw<std::uint16_t>(face_state_),
+                                raw<std::uint8_t>(face_along_), raw<float>(face_point_bary_),
+                                raw<float>(node_rest_), raw<SplitCase>(table_)};
+  for_each_index(f_count, face_info);
   edge_cut_.resize(e_count);
   for_each_index(e_count, edge_cut_info{raw<index_t>(face_nodes_), raw<index_t>(topo_.edge_faces), raw<index_t>(topo_.edge_nodes),
                                         raw<index_t>(topo_.face_edges), raw<std::uint8_t>(face_along_), raw<std::uint8_t>(edge_cut_)});
+  // Cut points no line uses are dropped, so they split no face.
+  for_each_index(e_count, drop_unused_edge_points{raw<index_t>(topo_.edge_faces), raw<index_t>(topo_.face_edges),
+                                                  raw<std::uint16_t>(face_state_), raw<std::uint8_t>(edge_cut_),
+                                                  raw<std::uint8_t>(edge_point_)});
+  for_each_index(f_count, refresh_face_cut_info{face_info});
   clock.mark<System>(CutStage::cut_info);
 
   // §2.2 new nodes: count per node, edge and face (one per sector), then one exclusive scan over
