@@ -111,7 +111,8 @@ struct intersect_cuts {
         double mid = event_s[event_count - 1] + 0.5 * ds;
         if (mid >= length) mid -= length;
         bool joined = ds <= 1e-9;
-        if (!joined && area2 != 0.0) joined = inside_triangle(corner, area2, polyline_point(cut, point_x, point_y, mid));
+        if (!joined && area2 != 0.0)
+          joined = inside_triangle(corner, area2, polyline_point(cut, point_x, point_y, mid));
         if (joined) pairs |= std::uint16_t(1u << location_pair_bit(event_loc[event_count - 1], event_loc[0]));
       }
     }
