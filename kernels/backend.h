@@ -6,6 +6,9 @@
 // __CUDACC__ itself.
 #pragma once
 
+#include <cstddef>
+#include <cstdlib>
+
 #include <thrust/detail/config.h>
 #include <thrust/system/omp/execution_policy.h>
 #include <thrust/system/omp/vector.h>
@@ -43,7 +46,14 @@ struct Traits<Omp> {
   template <class T>
   using vector = thrust::omp::vector<T>;
   static auto policy() { return thrust::omp::par; }
+  /// The policy with Thrust's temporary storage (sort and scan buffers) taken from `alloc`.
+  template <class Allocator>
+  static auto policy(Allocator& alloc) {
+    return thrust::omp::par(alloc);
+  }
   static void synchronize() {}
+  static void* allocate_bytes(std::size_t n) { return std::malloc(n); }
+  static void free_bytes(void* p) { std::free(p); }
 };
 
 #if TEAR_CUDA_SYSTEM
@@ -54,7 +64,16 @@ struct Traits<Cuda> {
   // Stages queue on the default stream without waiting; reading a result back (a count, a total)
   // is what synchronises, so a cut waits only where it needs a number on the host.
   static auto policy() { return thrust::cuda::par_nosync; }
+  template <class Allocator>
+  static auto policy(Allocator& alloc) {
+    return thrust::cuda::par_nosync(alloc);
+  }
   static void synchronize() { cudaStreamSynchronize(0); }
+  static void* allocate_bytes(std::size_t n) {
+    void* p = nullptr;
+    return cudaMalloc(&p, n) == cudaSuccess ? p : nullptr;
+  }
+  static void free_bytes(void* p) { cudaFree(p); }
 };
 #endif
 

@@ -5,6 +5,7 @@
 
 #include "backend.h"
 #include "tear/topology.h"
+#include "temporary_allocator.h"
 
 namespace tear::backend {
 
@@ -40,11 +41,32 @@ Topology download(const DeviceTopology<System>& d) {
   return t;
 }
 
-/// Builds the topology of `face_nodes` (already on the backend) into `topo`.
+/// Working arrays of `build_device_topology`, kept between builds so they only grow.
 template <class System>
-void build_device_topology(DeviceTopology<System>& topo, const vector<System, index_t>& face_nodes, index_t node_count);
+struct TopologyScratch {
+  vector<System, std::uint64_t> half_key;
+  vector<System, index_t> half_id, head, edge_of_sorted, edge_first_half, corner_node;
+};
+
+/// Builds the topology of `face_nodes` (already on the backend) into `topo`, using `scratch` and
+/// `alloc` for working memory.
+template <class System>
+void build_device_topology(DeviceTopology<System>& topo, const vector<System, index_t>& face_nodes, index_t node_count,
+                           TopologyScratch<System>& scratch, TemporaryAllocator<System>& alloc);
 
 template <class System>
 Topology build_topology_on(const Mesh& mesh);
+
+}  // namespace tear::backend
+
+namespace tear::backend {
+
+/// The same with working memory of its own (allocated for this one build).
+template <class System>
+void build_device_topology(DeviceTopology<System>& topo, const vector<System, index_t>& face_nodes, index_t node_count) {
+  TopologyScratch<System> scratch;
+  TemporaryAllocator<System> alloc;
+  build_device_topology(topo, face_nodes, node_count, scratch, alloc);
+}
 
 }  // namespace tear::backend
