@@ -418,9 +418,11 @@ TEST_CASE("remesh properties: a straight line across a sheet makes two pieces an
 TEST_CASE("remesh properties: the smallest angle after cuts on irregular sheets with the default snap",
           "[remesh][property]") {
   // Irregular sheets have angles of at least sheet_min_angle_deg (14); the default snap keeps
-  // every edge piece at least 0.2 of its edge, which bounds how thin a split can get. The bound
-  // asserted is far below what is seen (run with -s to print the worst angle) and far above a
-  // sliver.
+  // every edge piece at least 0.2 of its edge, which bounds how thin one split can get, but not
+  // how thin splits of splits get over several frames. Measured (run with -s to print it): the
+  // worst over these seeds is 1.8 degrees; over 2,000 other seeds 2.5 after one frame and 1.03
+  // after up to three. The thinnest come from an edge-node line (a cut through a node after
+  // snapping) crossing the opposite edge near the snap limit, a split with no free choice.
   const std::uint64_t base = tear::test::test_seed(2000);
   const bool one_seed = std::getenv("TEAR_TEST_SEED") != nullptr;
   double worst = 180;
