@@ -1,0 +1,159 @@
+// tear kernels: the projective dynamics model of a mesh: node masses, constraints and the
+// node→constraint CSR that the Jacobi step gathers through.
+//
+// A constraint c acts on up to four nodes with coefficients kᵢ: A_c x = Σ kᵢ x_{nᵢ}; its
+// projection keeps |A_c x| at a rest value (pd_math.h). Stretch constraint e is edge e's spring,
+// bending constraint edge_count + e its hinge; unused slots hold node -1 and weight 0.
+#pragma once
+
+#include <cstdint>
+
+#include "backend.h"
+#include "pd_math.h"
+
+namespace tear::kernels {
+
+using index_t = std::int32_t;
+
+inline constexpr int pd_constraint_nodes = 4;  ///< node slots per constraint
+
+/// Mass of each node: density × a third of the rest area of each of its faces, kg. A gather over
+/// the node→faces CSR in face order.
+struct compute_node_masses {
+  const index_t* face_nodes;
+  const float* node_rest;
+  const index_t* node_face_offset;
+  const index_t* node_faces;
+  double density;  // kg/m²
+  float* node_mass;
+  TEAR_HD void operator()(index_t n) const {
+    double area = 0;
+    for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) {
+      const index_t f = node_faces[i];
+      area +=
+          triangle_area(load3<double>(node_rest, face_nodes[3 * f]), load3<double>(node_rest, face_nodes[3 * f + 1]),
+                        load3<double>(node_rest, face_nodes[3 * f + 2]));
+    }
+    node_mass[n] = static_cast<float>(density * area / 3.0);
+  }
+};
+
+/// The node of face `f` that is neither `a` nor `b`.
+TEAR_HD inline index_t opposite_node(const index_t* face_nodes, index_t f, index_t a, index_t b) {
+  for (int k = 0; k < 3; ++k) {
+    const index_t n = face_nodes[3 * f + k];
+    if (n != a && n != b) return n;
+  }
+  return -1;
+}
+
+/// Constraint e: the spring of edge e, weight stretch_stiffness × A_e / L² (A_e: a third of the
+/// rest area of its faces), so the energy w/2 (|d| − L)² is stiffness/2 × strain² × A_e.
+/// Constraint edge_count + e: the hinge of interior edge e, weight bend_stiffness × 3 L² /
+/// (A₀ + A₁) (the discrete-shell scaling of θ², Grinspun et al. 2003), rest value its rest fold.
+struct make_pd_constraints {
+  const index_t* face_nodes;
+  const float* node_rest;
+  const index_t* edge_nodes;
+  const index_t* edge_faces;
+  const index_t* edge_face_count;
+  index_t edge_count;
+  double stretch_stiffness;   // N/m
+  double bend_stiffness;      // N·m
+  index_t* constraint_nodes;  // [2 edge_count * 4]
+  float* constraint_coef;     // [2 edge_count * 4]
+  float* constraint_weight;   // [2 edge_count]
+  float* constraint_rest;     // [2 edge_count]
+
+  TEAR_HD void clear(index_t c) const {
+    for (int j = 0; j < pd_constraint_nodes; ++j) {
+      constraint_nodes[pd_constraint_nodes * c + j] = -1;
+      constraint_coef[pd_constraint_nodes * c + j] = 0.0f;
+    }
+    constraint_weight[c] = 0.0f;
+    constraint_rest[c] = 0.0f;
+  }
+
+  TEAR_HD void operator()(index_t e) const {
+    const index_t stretch = e, bend = edge_count + e;
+    clear(stretch);
+    clear(bend);
+    const index_t a = edge_nodes[2 * e], b = edge_nodes[2 * e + 1];
+    const Vec3d xa = load3<double>(node_rest, a), xb = load3<double>(node_rest, b);
+    const double len2 = dot(xb - xa, xb - xa);
+    double face_area[2] = {0, 0};
+    index_t opposite[2] = {-1, -1};
+    const index_t faces = edge_face_count[e] < 2 ? edge_face_count[e] : 2;
+    for (index_t i = 0; i < faces; ++i) {
+      const index_t f = edge_faces[2 * e + i];
+      opposite[i] = opposite_node(face_nodes, f, a, b);
+      if (opposite[i] >= 0) face_area[i] = triangle_area(xa, xb, load3<double>(node_rest, opposite[i]));
+    }
+
+    const double stretch_weight = stretch_stiffness * (face_area[0] + face_area[1]) / 3.0 / len2;
+    if (len2 > 0 && stretch_weight > 0) {
+      constraint_nodes[pd_constraint_nodes * stretch] = a;
+      constraint_nodes[pd_constraint_nodes * stretch + 1] = b;
+      constraint_coef[pd_constraint_nodes * stretch] = 1.0f;
+      constraint_coef[pd_constraint_nodes * stretch + 1] = -1.0f;
+      constraint_weight[stretch] = static_cast<float>(stretch_weight);
+      constraint_rest[stretch] = static_cast<float>(sqrt(len2));
+    }
+
+    // A hinge needs exactly two faces (a non-manifold edge's fans have no single dihedral angle).
+    if (edge_face_count[e] != 2 || opposite[0] < 0 || opposite[1] < 0 || !(bend_stiffness > 0)) return;
+    const index_t hinge[4] = {a, b, opposite[0], opposite[1]};
+    double k[4];
+    if (!hinge_coefficients(xa, xb, load3<double>(node_rest, opposite[0]), load3<double>(node_rest, opposite[1]), k))
+      return;
+    Vec3d fold{0, 0, 0};
+    for (int j = 0; j < 4; ++j) {
+      constraint_nodes[pd_constraint_nodes * bend + j] = hinge[j];
+      constraint_coef[pd_constraint_nodes * bend + j] = static_cast<float>(k[j]);
+      fold = fold + k[j] * load3<double>(node_rest, hinge[j]);
+    }
+    constraint_weight[bend] = static_cast<float>(bend_stiffness * 3.0 * len2 / (face_area[0] + face_area[1]));
+    constraint_rest[bend] = static_cast<float>(norm(fold));
+  }
+};
+
+/// True for a constraint that acts (its weight is positive).
+struct is_positive {
+  TEAR_HD bool operator()(float weight) const { return weight > 0.0f; }
+};
+
+/// Sort keys of the constraint slots: the slot's node, or `node_count` for an unused slot so that
+/// unused slots sort after every node's run.
+struct make_slot_keys {
+  const index_t* constraint_nodes;
+  index_t node_count;
+  index_t* slot_node;
+  index_t* slot_id;
+  TEAR_HD void operator()(index_t s) const {
+    const index_t n = constraint_nodes[s];
+    slot_node[s] = n >= 0 ? n : node_count;
+    slot_id[s] = s;
+  }
+};
+
+/// Diagonal of the global matrix M/h² + Σ w AᵀA at each node, gathered over its slots.
+struct compute_jacobi_diagonal {
+  const index_t* node_slot_offset;
+  const index_t* node_slots;  // slot s = 4 c + j of constraint c
+  const float* constraint_coef;
+  const float* constraint_weight;
+  const float* node_mass;
+  float inv_h2;  // 1/s²
+  float* node_diag;
+  TEAR_HD void operator()(index_t n) const {
+    float d = node_mass[n] * inv_h2;
+    for (index_t i = node_slot_offset[n]; i < node_slot_offset[n + 1]; ++i) {
+      const index_t s = node_slots[i];
+      const float k = constraint_coef[s];
+      d += constraint_weight[s / pd_constraint_nodes] * k * k;
+    }
+    node_diag[n] = d;
+  }
+};
+
+}  // namespace tear::kernels

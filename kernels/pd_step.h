@@ -1,0 +1,160 @@
+// tear kernels: one implicit Euler step of projective dynamics (Bouaziz et al. 2014, §4) with the
+// global step solved by Chebyshev-accelerated Jacobi iterations (Wang 2015, §4-5).
+//
+// Every kernel writes only its own element: the local step one constraint, the Jacobi update one
+// node (gathering its constraints in CSR order). No atomics, so a step is deterministic.
+#pragma once
+
+#include <cstdint>
+
+#include "backend.h"
+#include "pd_math.h"
+#include "pd_model.h"
+
+namespace tear::kernels {
+
+/// Inertial prediction s = x + h v + h² g (pinned nodes: s = x), which also starts the iterates.
+struct predict_positions {
+  const float* node_pos;
+  const float* node_vel;
+  const std::uint8_t* node_pinned;
+  float h;        // s
+  Vec3f gravity;  // m/s²
+  float* node_pred;
+  float* node_iter;       // x⁽⁰⁾
+  float* node_iter_prev;  // x⁽⁻¹⁾, only read once the acceleration starts
+  TEAR_HD void operator()(index_t n) const {
+    const Vec3f x = load3<float>(node_pos, n);
+    const Vec3f s = node_pinned[n] ? x : x + h * load3<float>(node_vel, n) + (h * h) * gravity;
+    store3(node_pred, n, s);
+    store3(node_iter, n, s);
+    store3(node_iter_prev, n, s);
+  }
+};
+
+/// Local step of constraint c at the current iterate: f_c = w_c (p_c − A_c x), the constraint's
+/// pull towards its projection p_c (pd_math.h `project_length`): newtons for a spring.
+struct project_constraints {
+  const index_t* constraint_nodes;
+  const float* constraint_coef;
+  const float* constraint_weight;
+  const float* constraint_rest;
+  const float* node_iter;
+  float* constraint_force;  // [constraint_count * 3]
+  TEAR_HD void operator()(index_t c) const {
+    Vec3f d{0, 0, 0};
+    for (int j = 0; j < pd_constraint_nodes; ++j) {
+      const index_t n = constraint_nodes[pd_constraint_nodes * c + j];
+      if (n >= 0) d = d + constraint_coef[pd_constraint_nodes * c + j] * load3<float>(node_iter, n);
+    }
+    const Vec3f p = project_length(d, constraint_rest[c]);
+    store3(constraint_force, c, constraint_weight[c] * (p - d));
+  }
+};
+
+/// Global step at node n: one Jacobi update of (M/h² + Σ w AᵀA) x = M s/h² + Σ w Aᵀ p,
+///   x̂ = x + (m/h² (s − x) + Σ_c k_{c,n} f_c) / D_n,
+/// then Chebyshev's x⁽ᵏ⁺¹⁾ = ω (γ (x̂ − x⁽ᵏ⁾) + x⁽ᵏ⁾ − x⁽ᵏ⁻¹⁾) + x⁽ᵏ⁻¹⁾ (Wang 2015, eq. 12 with
+/// under-relaxation γ). Pinned nodes stay. A node with no mass and no constraint follows s.
+struct jacobi_chebyshev_update {
+  const index_t* node_slot_offset;
+  const index_t* node_slots;
+  const float* constraint_coef;
+  const float* constraint_force;
+  const float* node_mass;
+  const float* node_diag;
+  const std::uint8_t* node_pinned;
+  const float* node_pred;
+  const float* node_iter;
+  const float* node_iter_prev;
+  float inv_h2;
+  float omega;
+  float gamma;
+  float* node_iter_next;
+  TEAR_HD void operator()(index_t n) const {
+    const Vec3f x = load3<float>(node_iter, n);
+    if (node_pinned[n]) {
+      store3(node_iter_next, n, x);
+      return;
+    }
+    const Vec3f s = load3<float>(node_pred, n);
+    const float diag = node_diag[n];
+    if (!(diag > 0.0f)) {
+      store3(node_iter_next, n, s);
+      return;
+    }
+    Vec3f g = (node_mass[n] * inv_h2) * (s - x);
+    for (index_t i = node_slot_offset[n]; i < node_slot_offset[n + 1]; ++i) {
+      const index_t slot = node_slots[i];
+      g = g + constraint_coef[slot] * load3<float>(constraint_force, slot / pd_constraint_nodes);
+    }
+    const Vec3f x_hat = x + (1.0f / diag) * g;
+    const Vec3f x_prev = load3<float>(node_iter_prev, n);
+    store3(node_iter_next, n, omega * (gamma * (x_hat - x) + x - x_prev) + x_prev);
+  }
+};
+
+/// A static collider as the kernels see it: a plane (point, unit normal) or a sphere (centre, radius).
+struct PdCollider {
+  std::int32_t kind;  ///< 0 plane, 1 sphere
+  float point[3];
+  float normal[3];
+  float radius;
+};
+
+/// Pushes a node out of a collider along the surface normal and removes the velocity component
+/// that points into it. No friction: the tangential velocity is kept.
+TEAR_HD inline void collide(const PdCollider& c, Vec3f& x, Vec3f& v) {
+  const Vec3f point{c.point[0], c.point[1], c.point[2]};
+  Vec3f normal;
+  float depth;  // > 0 inside
+  if (c.kind == 0) {
+    normal = Vec3f{c.normal[0], c.normal[1], c.normal[2]};
+    depth = -dot(x - point, normal);
+  } else {
+    const Vec3f r = x - point;
+    const float len = norm(r);
+    // A node exactly at the centre has no outward direction; up is as good as any.
+    normal = len > 0.0f ? (1.0f / len) * r : Vec3f{0, 1, 0};
+    depth = c.radius - len;
+  }
+  if (!(depth > 0.0f)) return;
+  x = x + depth * normal;
+  const float vn = dot(v, normal);
+  if (vn < 0.0f) v = v - vn * normal;
+}
+
+/// End of a step: v = (x − xₙ)/h scaled by the damping factor, x = the last iterate, then the
+/// colliders in order. Pinned nodes keep their position and have no velocity.
+struct finish_step {
+  const std::uint8_t* node_pinned;
+  const float* node_iter;
+  float inv_h;
+  float velocity_scale;  // (1 − damping)^h
+  const PdCollider* colliders;
+  index_t collider_count;
+  float* node_pos;
+  float* node_vel;
+  TEAR_HD void operator()(index_t n) const {
+    if (node_pinned[n]) {
+      store3(node_vel, n, Vec3f{0, 0, 0});
+      return;
+    }
+    Vec3f x = load3<float>(node_iter, n);
+    Vec3f v = (velocity_scale * inv_h) * (x - load3<float>(node_pos, n));
+    for (index_t i = 0; i < collider_count; ++i) collide(colliders[i], x, v);
+    store3(node_pos, n, x);
+    store3(node_vel, n, v);
+  }
+};
+
+/// Chebyshev weight ω of iteration k (0-based) given the previous one (Wang 2015, eq. 11): 1 for
+/// the first `delay` iterations, then 2/(2 − ρ²), then 4/(4 − ρ² ω). ω rises towards
+/// 2/(1 + √(1 − ρ²)), which is where a too-large ρ overshoots.
+TEAR_HD inline double chebyshev_omega(int k, int delay, double rho, double previous_omega) {
+  if (k < delay) return 1.0;
+  if (k == delay) return 2.0 / (2.0 - rho * rho);
+  return 4.0 / (4.0 - rho * rho * previous_omega);
+}
+
+}  // namespace tear::kernels

@@ -1,0 +1,37 @@
+// tear: the per-backend implementation behind tear::PdSolver.
+#pragma once
+
+#include <memory>
+
+#include "systems.h"
+#include "tear/simulation.h"
+
+namespace tear {
+
+class PdSolver::Impl {
+ public:
+  virtual ~Impl() = default;
+  virtual Device device() const = 0;
+  virtual index_t node_count() const = 0;
+  virtual index_t constraint_count() const = 0;
+  virtual const SimulationOptions& options() const = 0;
+  virtual void step() = 0;
+  virtual void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) = 0;
+  virtual std::vector<float> node_pos() const = 0;
+  virtual std::vector<float> node_vel() const = 0;
+  virtual float* device_node_pos() = 0;
+  virtual float* device_node_vel() = 0;
+  virtual std::vector<float> node_mass() const = 0;
+  virtual std::vector<std::uint8_t> node_pinned() const = 0;
+};
+
+namespace backend {
+/// Builds the model of the mesh on `System`; `node_pinned` [node_count] is already resolved.
+template <class System>
+std::unique_ptr<PdSolver::Impl> make_pd_solver(const std::vector<index_t>& face_nodes,
+                                               const std::vector<float>& node_rest, index_t node_count,
+                                               const SimulationOptions& options,
+                                               const std::vector<std::uint8_t>& node_pinned);
+}  // namespace backend
+
+}  // namespace tear

@@ -1,0 +1,211 @@
+// The projective dynamics solver on either backend: the model is built once per mesh (topology,
+// masses, constraints, node→constraint CSR, Jacobi diagonal), then each step is a fixed sequence of
+// kernel launches with no read-back, so a CUDA step queues without waiting.
+#include <cmath>
+#include <type_traits>
+
+#include <thrust/binary_search.h>
+#include <thrust/copy.h>
+#include <thrust/count.h>
+#include <thrust/for_each.h>
+#include <thrust/iterator/counting_iterator.h>
+#include <thrust/sort.h>
+
+#include "backend.h"
+#include "device_topology.h"
+#include "pd_model.h"
+#include "pd_solver.h"
+#include "pd_step.h"
+
+namespace tear::backend {
+
+template <class System>
+class PdSolverOn final : public PdSolver::Impl {
+  template <class T>
+  using vec = vector<System, T>;
+
+ public:
+  PdSolverOn(const std::vector<index_t>& face_nodes, const std::vector<float>& node_rest, index_t node_count,
+             const SimulationOptions& options, const std::vector<std::uint8_t>& node_pinned)
+      : options_(options),
+        node_count_(node_count),
+        node_pinned_(node_pinned.begin(), node_pinned.end()),
+        node_pos_(node_rest.begin(), node_rest.end()),
+        node_vel_(node_rest.size(), 0.0f) {
+    build_model(face_nodes, node_rest);
+    node_pred_.resize(3 * static_cast<std::size_t>(node_count));
+    for (auto& iter : node_iter_) iter.resize(3 * static_cast<std::size_t>(node_count));
+    std::vector<kernels::PdCollider> colliders;
+    for (const Collider& c : options.colliders) {
+      kernels::PdCollider k{};
+      k.kind = c.kind == Collider::Kind::plane ? 0 : 1;
+      const double len = std::sqrt(c.normal[0] * c.normal[0] + c.normal[1] * c.normal[1] + c.normal[2] * c.normal[2]);
+      for (int a = 0; a < 3; ++a) {
+        k.point[a] = static_cast<float>(c.point[a]);
+        k.normal[a] = static_cast<float>(len > 0 ? c.normal[a] / len : 0.0);
+      }
+      k.radius = static_cast<float>(c.radius);
+      colliders.push_back(k);
+    }
+    colliders_.assign(colliders.begin(), colliders.end());
+  }
+
+  Device device() const override { return std::is_same<System, Omp>::value ? Device::cpu : Device::cuda; }
+  index_t node_count() const override { return node_count_; }
+  index_t constraint_count() const override { return active_constraint_count_; }
+  const SimulationOptions& options() const override { return options_; }
+
+  void step() override;
+
+  void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) override {
+    thrust::copy(node_pos.begin(), node_pos.end(), node_pos_.begin());
+    thrust::copy(node_vel.begin(), node_vel.end(), node_vel_.begin());
+  }
+  std::vector<float> node_pos() const override { return to_host<float>(node_pos_); }
+  std::vector<float> node_vel() const override { return to_host<float>(node_vel_); }
+  float* device_node_pos() override { return raw<float>(node_pos_); }
+  float* device_node_vel() override { return raw<float>(node_vel_); }
+  std::vector<float> node_mass() const override { return to_host<float>(node_mass_); }
+  std::vector<std::uint8_t> node_pinned() const override { return to_host<std::uint8_t>(node_pinned_); }
+
+ private:
+  void build_model(const std::vector<index_t>& face_nodes_host, const std::vector<float>& node_rest_host);
+
+  SimulationOptions options_;
+  index_t node_count_ = 0;
+  index_t constraint_count_ = 0;  // 2 per edge, weightless ones included
+  index_t active_constraint_count_ = 0;
+  vec<std::uint8_t> node_pinned_;
+  vec<float> node_pos_, node_vel_;
+  // Model.
+  vec<float> node_mass_, node_diag_;
+  vec<index_t> constraint_nodes_;
+  vec<float> constraint_coef_, constraint_weight_, constraint_rest_;
+  vec<index_t> node_slot_offset_, node_slots_;
+  vec<kernels::PdCollider> colliders_;
+  // Scratch of a step.
+  vec<float> node_pred_, constraint_force_;
+  vec<float> node_iter_[3];
+};
+
+template <class System>
+void PdSolverOn<System>::build_model(const std::vector<index_t>& face_nodes_host,
+                                     const std::vector<float>& node_rest_host) {
+  using namespace kernels;
+  const auto policy = Traits<System>::policy();
+  const thrust::counting_iterator<index_t> zero(0);
+  const vec<index_t> face_nodes(face_nodes_host.begin(), face_nodes_host.end());
+  const vec<float> node_rest(node_rest_host.begin(), node_rest_host.end());
+  DeviceTopology<System> topo;
+  build_device_topology(topo, face_nodes, node_count_);
+
+  node_mass_.resize(node_count_);
+  thrust::for_each(
+      policy, zero, zero + node_count_,
+      compute_node_masses{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.node_face_offset),
+                          raw<index_t>(topo.node_faces), options_.density, raw<float>(node_mass_)});
+
+  const index_t edge_count = topo.edge_count;
+  constraint_count_ = 2 * edge_count;
+  const index_t slot_count = pd_constraint_nodes * constraint_count_;
+  constraint_nodes_.resize(slot_count);
+  constraint_coef_.resize(slot_count);
+  constraint_weight_.resize(constraint_count_);
+  constraint_rest_.resize(constraint_count_);
+  constraint_force_.resize(3 * static_cast<std::size_t>(constraint_count_));
+  thrust::for_each(
+      policy, zero, zero + edge_count,
+      make_pd_constraints{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.edge_nodes),
+                          raw<index_t>(topo.edge_faces), raw<index_t>(topo.edge_face_count), edge_count,
+                          options_.stretch_stiffness, options_.bend_stiffness, raw<index_t>(constraint_nodes_),
+                          raw<float>(constraint_coef_), raw<float>(constraint_weight_), raw<float>(constraint_rest_)});
+  active_constraint_count_ = static_cast<index_t>(
+      thrust::count_if(policy, constraint_weight_.begin(), constraint_weight_.end(), is_positive{}));
+
+  // Node→constraint CSR: slots stably sorted by node keep each node's constraints in index order,
+  // the fixed order its Jacobi update sums them in.
+  vec<index_t> slot_node(slot_count);
+  node_slots_.resize(slot_count);
+  thrust::for_each(
+      policy, zero, zero + slot_count,
+      make_slot_keys{raw<index_t>(constraint_nodes_), node_count_, raw<index_t>(slot_node), raw<index_t>(node_slots_)});
+  thrust::stable_sort_by_key(policy, slot_node.begin(), slot_node.end(), node_slots_.begin());
+  node_slot_offset_.resize(static_cast<std::size_t>(node_count_) + 1);
+  thrust::lower_bound(policy, slot_node.begin(), slot_node.end(), zero, zero + node_count_ + 1,
+                      node_slot_offset_.begin());
+
+  const double h = options_.step_seconds();
+  node_diag_.resize(node_count_);
+  thrust::for_each(
+      policy, zero, zero + node_count_,
+      compute_jacobi_diagonal{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), raw<float>(constraint_coef_),
+                              raw<float>(constraint_weight_), raw<float>(node_mass_), static_cast<float>(1.0 / (h * h)),
+                              raw<float>(node_diag_)});
+}
+
+template <class System>
+void PdSolverOn<System>::step() {
+  using namespace kernels;
+  const auto policy = Traits<System>::policy();
+  const thrust::counting_iterator<index_t> zero(0);
+  const double h = options_.step_seconds();
+  const float inv_h2 = static_cast<float>(1.0 / (h * h));
+  const Vec3f gravity{static_cast<float>(options_.gravity[0]), static_cast<float>(options_.gravity[1]),
+                      static_cast<float>(options_.gravity[2])};
+  const float velocity_scale = static_cast<float>(std::pow(1.0 - options_.damping, h));
+  const auto& cheb = options_.chebyshev;
+  const float gamma = static_cast<float>(cheb.gamma);
+
+  for (int substep = 0; substep < options_.substeps; ++substep) {
+    // Inertial prediction (Bouaziz et al. 2014, eq. 9): the first iterate.
+    thrust::for_each(policy, zero, zero + node_count_,
+                     predict_positions{raw<float>(node_pos_), raw<float>(node_vel_), raw<std::uint8_t>(node_pinned_),
+                                       static_cast<float>(h), gravity, raw<float>(node_pred_),
+                                       raw<float>(node_iter_[0]), raw<float>(node_iter_[1])});
+    int cur = 0, prev = 1, next = 2;
+    double omega = 1.0;
+    for (int k = 0; k < options_.iterations; ++k) {
+      omega = chebyshev_omega(k, cheb.delay, cheb.rho, omega);
+      // Local step: every constraint's projection at the current iterate (§4.1).
+      thrust::for_each(policy, zero, zero + constraint_count_,
+                       project_constraints{raw<index_t>(constraint_nodes_), raw<float>(constraint_coef_),
+                                           raw<float>(constraint_weight_), raw<float>(constraint_rest_),
+                                           raw<float>(node_iter_[cur]), raw<float>(constraint_force_)});
+      // Global step: one Chebyshev-weighted Jacobi update per node (Wang 2015, §4).
+      thrust::for_each(
+          policy, zero, zero + node_count_,
+          jacobi_chebyshev_update{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_),
+                                  raw<float>(constraint_coef_), raw<float>(constraint_force_), raw<float>(node_mass_),
+                                  raw<float>(node_diag_), raw<std::uint8_t>(node_pinned_), raw<float>(node_pred_),
+                                  raw<float>(node_iter_[cur]), raw<float>(node_iter_[prev]), inv_h2,
+                                  static_cast<float>(omega), gamma, raw<float>(node_iter_[next])});
+      const int old_prev = prev;
+      prev = cur;
+      cur = next;
+      next = old_prev;
+    }
+    // Velocity update, damping and colliders.
+    thrust::for_each(
+        policy, zero, zero + node_count_,
+        finish_step{raw<std::uint8_t>(node_pinned_), raw<float>(node_iter_[cur]), static_cast<float>(1.0 / h),
+                    velocity_scale, raw<PdCollider>(colliders_), static_cast<index_t>(colliders_.size()),
+                    raw<float>(node_pos_), raw<float>(node_vel_)});
+  }
+}
+
+template <class System>
+std::unique_ptr<PdSolver::Impl> make_pd_solver(const std::vector<index_t>& face_nodes,
+                                               const std::vector<float>& node_rest, index_t node_count,
+                                               const SimulationOptions& options,
+                                               const std::vector<std::uint8_t>& node_pinned) {
+  return std::make_unique<PdSolverOn<System>>(face_nodes, node_rest, node_count, options, node_pinned);
+}
+
+#define TEAR_INSTANTIATE(S)                                                                                          \
+  template std::unique_ptr<PdSolver::Impl> make_pd_solver<S>(const std::vector<index_t>&, const std::vector<float>&, \
+                                                             index_t, const SimulationOptions&,                      \
+                                                             const std::vector<std::uint8_t>&);
+TEAR_FOR_EACH_SYSTEM(TEAR_INSTANTIATE)
+#undef TEAR_INSTANTIATE
+
+}  // namespace tear::backend
