@@ -55,4 +55,29 @@ struct count_new_faces {
   TEAR_HD void operator()(index_t f) const { face_new_face_count[f] = split_case(table, face_state[f]).tri_count; }
 };
 
+/// What a cut did, for its statistics: edges with a cut point, edges with a cut line along them,
+/// faces with a face point. One reduction, so one read-back.
+struct CutSummary {
+  index_t edge_points = 0, cut_edges = 0, face_points = 0;
+  TEAR_HD CutSummary operator+(const CutSummary& o) const {
+    return {edge_points + o.edge_points, cut_edges + o.cut_edges, face_points + o.face_points};
+  }
+};
+
+struct summarize_cut {
+  const std::uint8_t* edge_point;
+  const std::uint8_t* edge_cut;
+  const index_t* face_new_count;
+  index_t edge_count, face_count;
+  TEAR_HD CutSummary operator()(index_t i) const {
+    CutSummary s;
+    if (i < edge_count) {
+      s.edge_points = edge_point[i] == edge_point_inside ? 1 : 0;
+      s.cut_edges = edge_cut[i] ? 1 : 0;
+    }
+    if (i < face_count) s.face_points = face_new_count[i] ? 1 : 0;
+    return s;
+  }
+};
+
 }  // namespace tear::kernels

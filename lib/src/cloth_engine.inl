@@ -1,10 +1,11 @@
 // The remesher on either backend (paper §2): a short list of named stages, each a count, a scan or
 // a write over one kind of element. Scratch arrays live with the cloth and only grow, so once
 // they reach capacity a cut allocates nothing for its own arrays.
+#include <algorithm>
 #include <chrono>
 
 #include <thrust/copy.h>
-#include <thrust/count.h>
+#include <thrust/transform_reduce.h>
 #include <thrust/fill.h>
 #include <thrust/for_each.h>
 #include <thrust/iterator/counting_iterator.h>
@@ -58,7 +59,7 @@ class ClothEngine final : public Cloth::Engine {
         corner_uv_(mesh.corner_uv.begin(), mesh.corner_uv.end()),
         corner_normal_(mesh.corner_normal.begin(), mesh.corner_normal.end()),
         table_(kernels::split_table(), kernels::split_table() + kernels::split_table_size) {
-    build_device_topology(topo_, face_nodes_, mesh.node_count());
+    build_device_topology(topo_, face_nodes_, mesh.node_count(), topo_scratch_, alloc_);
   }
 
   Device device() const override { return std::is_same<System, Omp>::value ? Device::cpu : Device::cuda; }
@@ -102,6 +103,8 @@ class ClothEngine final : public Cloth::Engine {
   vec<index_t> face_nodes_;
   vec<float> corner_uv_, corner_normal_;
   DeviceTopology<System> topo_;
+  TopologyScratch<System> topo_scratch_;
+  TemporaryAllocator<System> alloc_;  // Thrust's sort and scan buffers, reused cut after cut
   vec<kernels::SplitCase> table_;
 
   // The frame's cuts.
@@ -168,7 +171,7 @@ CutStats ClothEngine<System>::cut(const std::vector<CutLine>& cuts, const CutOpt
 template <class System>
 void ClothEngine<System>::run_cut(const std::vector<CutLine>& cuts, const CutOptions& options, CutStats& stats, StageClock& clock) {
   using namespace kernels;
-  const auto policy = Traits<System>::policy();
+  const auto policy = Traits<System>::policy(alloc_);
   const index_t n_count = topo_.node_count, f_count = topo_.face_count, e_count = topo_.edge_count;
   stats.nodes_before = stats.nodes_after = n_count;
   stats.faces_before = stats.faces_after = f_count;
@@ -232,9 +235,14 @@ void ClothEngine<System>::run_cut(const std::vector<CutLine>& cuts, const CutOpt
 
   const index_t new_node_count = point_new_offset_.back();
   const index_t new_face_count = face_new_face_offset_.back();
-  stats.edge_points = static_cast<index_t>(thrust::count(policy, edge_point_.begin(), edge_point_.end(), std::uint8_t(edge_point_inside)));
-  stats.cut_edges = static_cast<index_t>(e_count - thrust::count(policy, edge_cut_.begin(), edge_cut_.end(), std::uint8_t(0)));
-  stats.face_points = static_cast<index_t>(f_count - thrust::count(policy, face_new_count, face_new_count + f_count, 0));
+  thrust::counting_iterator<index_t> zero(0);
+  const CutSummary summary = thrust::transform_reduce(
+      policy, zero, zero + std::max(e_count, f_count),
+      summarize_cut{raw<std::uint8_t>(edge_point_), raw<std::uint8_t>(edge_cut_), face_new_count, e_count, f_count}, CutSummary{},
+      thrust::plus<CutSummary>());
+  stats.edge_points = summary.edge_points;
+  stats.cut_edges = summary.cut_edges;
+  stats.face_points = summary.face_points;
   clock.mark<System>(CutStage::counts_and_scans);
   if (new_node_count == n_count && new_face_count == f_count) return;  // the cuts split nothing
 
@@ -281,7 +289,7 @@ void ClothEngine<System>::run_cut(const std::vector<CutLine>& cuts, const CutOpt
   node_vel_.swap(new_node_vel_);
   corner_uv_.swap(new_corner_uv_);
   corner_normal_.swap(new_corner_normal_);
-  build_device_topology(topo_, face_nodes_, new_node_count);
+  build_device_topology(topo_, face_nodes_, new_node_count, topo_scratch_, alloc_);
   clock.mark<System>(CutStage::adjacency);
 
   stats.nodes_after = new_node_count;
