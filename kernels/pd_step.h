@@ -149,8 +149,8 @@ struct finish_step {
 };
 
 /// Chebyshev weight ω of iteration k (0-based) given the previous one (Wang 2015, eq. 11): 1 for
-/// the first `delay` iterations, then 2/(2 − ρ²), then 4/(4 − ρ² ω). ω rises towards
-/// 2/(1 + √(1 − ρ²)), which is where a too-large ρ overshoots.
+/// the first `delay` iterations, then 2/(2 − ρ²), then 4/(4 − ρ² ω), rising towards
+/// 2/(1 + √(1 − ρ²)).
 TEAR_HD inline double chebyshev_omega(int k, int delay, double rho, double previous_omega) {
   if (k < delay) return 1.0;
   if (k == delay) return 2.0 / (2.0 - rho * rho);
