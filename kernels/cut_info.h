@@ -74,6 +74,25 @@ TEAR_HD inline bool cross_bary(const double* a0, const double* a1, const double*
   return true;
 }
 
+/// Rest positions of the 7 point slots of face f's split (N0..N2, E0..E2 at `t_local`, P at the
+/// face point).
+TEAR_HD inline void face_point_positions(const index_t* face_nodes, const float* node_rest, const float* face_point_bary,
+                                         index_t f, const double* t_local, double (*point_pos)[3]) {
+  for (int slot = 0; slot < face_point_slot_count; ++slot) {
+    double b[3] = {0, 0, 0};
+    if (slot < 3)
+      b[slot] = 1.0;
+    else if (slot < 6)
+      edge_point_bary(slot - 3, t_local[slot - 3], b);
+    else
+      for (int i = 0; i < 3; ++i) b[i] = face_point_bary[3 * f + i];
+    for (int d = 0; d < 3; ++d) {
+      point_pos[slot][d] = 0;
+      for (int i = 0; i < 3; ++i) point_pos[slot][d] += b[i] * node_rest[3 * face_nodes[3 * f + i] + d];
+    }
+  }
+}
+
 /// The face point is kept at least this far (in barycentric coordinates) from the face's edges,
 /// so the fan of triangles around it has no sliver; the cut bends by less than an element.
 inline constexpr double face_point_min_bary = 0.1;
@@ -178,19 +197,7 @@ struct face_cut_info {
     int variant = 0;
     if (table[face_split_code(state, 0)].variant_count > 1) {
       double point_pos[face_point_slot_count][3];
-      for (int slot = 0; slot < face_point_slot_count; ++slot) {
-        double b[3] = {0, 0, 0};
-        if (slot < 3)
-          b[slot] = 1.0;
-        else if (slot < 6)
-          edge_point_bary(slot - 3, t_local[slot - 3], b);
-        else
-          for (int i = 0; i < 3; ++i) b[i] = face_point_bary[3 * f + i];
-        for (int d = 0; d < 3; ++d) {
-          point_pos[slot][d] = 0;
-          for (int i = 0; i < 3; ++i) point_pos[slot][d] += b[i] * node_rest[3 * face_nodes[3 * f + i] + d];
-        }
-      }
+      face_point_positions(face_nodes, node_rest, face_point_bary, f, t_local, point_pos);
       variant = best_split_variant(table, state, point_pos);
     }
     face_state[f] = face_split_code(state, variant);
@@ -257,6 +264,69 @@ struct refresh_face_cut_info {
         info(f);
         return;
       }
+  }
+};
+
+/// Per face: when the face's split (with its best variant) still has an angle sharper than
+/// `max_cosine` allows, asks to move the edge point nearest a node onto that node, if it lies
+/// within `limit` of its edge from it. Points a cut placed near a node make the thinnest triangles
+/// (the cut through a node crossing the opposite edge near its end, a corner cut off with one
+/// side far shorter than the other); on the node they leave the face unsplit or split at a node.
+struct request_quality_snaps {
+  const index_t* face_nodes;
+  const index_t* face_edges;
+  const std::uint16_t* face_state;
+  const float* edge_point_t;
+  const float* face_point_bary;
+  const float* node_rest;
+  const SplitCase* table;
+  double max_cosine;
+  double limit;
+  std::int8_t* face_snap_edge;  ///< [face_count] local edge whose point should snap, or -1
+  TEAR_HD void operator()(index_t f) const {
+    face_snap_edge[f] = -1;
+    const unsigned code = face_state[f], state = face_split_state(code);
+    if (!(state & 7u)) return;
+    double t_local[3];
+    for (int k = 0; k < 3; ++k) {
+      const index_t e = face_edges[3 * f + k];
+      const bool forward = face_nodes[3 * f + (k + 1) % 3] < face_nodes[3 * f + (k + 2) % 3];
+      t_local[k] = forward ? edge_point_t[e] : 1.0 - edge_point_t[e];
+    }
+    double point_pos[face_point_slot_count][3];
+    face_point_positions(face_nodes, node_rest, face_point_bary, f, t_local, point_pos);
+    if (split_worst_cosine(split_case(table, code), point_pos) <= max_cosine) return;
+    int best = -1;
+    double best_d = limit;
+    for (int k = 0; k < 3; ++k) {
+      if (!(state & face_cut_edge_point(k))) continue;
+      const double d = t_local[k] < 0.5 ? t_local[k] : 1.0 - t_local[k];
+      if (d < best_d) {
+        best_d = d;
+        best = k;
+      }
+    }
+    face_snap_edge[f] = static_cast<std::int8_t>(best);
+  }
+};
+
+/// Per edge: snaps its point onto the nearer node when a face on either side asked for it.
+struct apply_quality_snaps {
+  const index_t* edge_faces;
+  const index_t* face_edges;
+  const std::int8_t* face_snap_edge;
+  std::uint8_t* edge_point;
+  float* edge_point_t;
+  TEAR_HD void operator()(index_t e) const {
+    if (edge_point[e] != edge_point_inside) return;
+    for (int side = 0; side < 2; ++side) {
+      const index_t f = edge_faces[2 * e + side];
+      if (f < 0 || face_snap_edge[f] != local_edge_of(face_edges, f, e)) continue;
+      const bool low = edge_point_t[e] < 0.5f;
+      edge_point[e] = low ? edge_point_low_node : edge_point_high_node;
+      edge_point_t[e] = low ? 0.0f : 1.0f;
+      return;
+    }
   }
 };
 

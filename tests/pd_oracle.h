@@ -11,9 +11,9 @@
 #include <utility>
 #include <vector>
 
-#include <eigen3/Eigen/Geometry>
-#include <eigen3/Eigen/SparseCholesky>
-#include <eigen3/Eigen/SparseCore>
+#include <Eigen/Geometry>
+#include <Eigen/SparseCholesky>
+#include <Eigen/SparseCore>
 
 #include "tear/mesh.h"
 #include "tear/simulation.h"

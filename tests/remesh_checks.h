@@ -3,7 +3,10 @@
 
 #include <algorithm>
 #include <array>
+#include <algorithm>
 #include <cmath>
+#include <functional>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -26,6 +29,24 @@ inline double face_area(const Mesh& m, index_t f) {
   }
   const double x = u[1] * v[2] - u[2] * v[1], y = u[2] * v[0] - u[0] * v[2], z = u[0] * v[1] - u[1] * v[0];
   return 0.5 * std::sqrt(x * x + y * y + z * z);
+}
+
+/// Areas of the mesh's pieces (faces joined through shared nodes), largest first.
+inline std::vector<double> component_areas(const Mesh& m) {
+  std::vector<index_t> parent(m.node_count());
+  for (index_t i = 0; i < m.node_count(); ++i) parent[i] = i;
+  auto find = [&](index_t x) {
+    while (parent[x] != x) x = parent[x] = parent[parent[x]];
+    return x;
+  };
+  for (index_t f = 0; f < m.face_count(); ++f)
+    for (int k = 1; k < 3; ++k) parent[find(m.face_nodes[3 * f + k])] = find(m.face_nodes[3 * f]);
+  std::map<index_t, double> area;
+  for (index_t f = 0; f < m.face_count(); ++f) area[find(m.face_nodes[3 * f])] += face_area(m, f);
+  std::vector<double> out;
+  for (const auto& [root, a] : area) out.push_back(a);
+  std::sort(out.begin(), out.end(), std::greater<double>());
+  return out;
 }
 
 inline double total_area(const Mesh& m) {

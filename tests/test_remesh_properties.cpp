@@ -265,7 +265,9 @@ void check_new_nodes_on_cuts(const Mesh& before, const Topology& topo_before, co
       if (std::abs(sum - 1) > 1e-5 || std::min({w[0], w[1], w[2]}) < 0.07f) ++face_bad;
     }
   }
-  // Split old nodes: within snap x (longest incident edge) of some cut, in the cut's space.
+  // Split old nodes: within snap x (longest incident edge) of some cut, in the cut's space; or
+  // within the quality snap, which may move a point that would leave a sharp triangle.
+  const double reach = snap > 0 ? std::max(snap, CutOptions{}.quality_snap) : 0.0;
   for (index_t a = 0; a < before.node_count(); ++a) {
     if (copies[a] < 2) continue;
     faces_with(a, -1, faces);
@@ -275,7 +277,7 @@ void check_new_nodes_on_cuts(const Mesh& before, const Topology& topo_before, co
         const Point x = project(c, f, k[0]);
         const double longest =
             std::max(length(x, project(c, f, (k[0] + 1) % 3)), length(x, project(c, f, (k[0] + 2) % 3)));
-        best = std::min(best, distance_to_cut(c, x) - (snap + 1e-5) * longest);
+        best = std::min(best, distance_to_cut(c, x) - (reach + 1e-5) * longest);
       }
     if (best > 0) {
       ++node_bad;

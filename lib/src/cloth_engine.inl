@@ -3,6 +3,7 @@
 // they reach capacity a cut allocates nothing for its own arrays.
 #include <algorithm>
 #include <chrono>
+#include <cmath>
 
 #include <thrust/copy.h>
 #include <thrust/transform_reduce.h>
@@ -116,6 +117,7 @@ class ClothEngine final : public Cloth::Engine {
   vec<index_t> half_hit_count_;
   vec<std::uint16_t> face_pairs_, face_state_;
   vec<std::uint8_t> edge_point_, face_along_, edge_cut_;
+  vec<std::int8_t> face_snap_edge_;
   vec<float> edge_point_t_, face_point_bary_;
 
   // Counts and offsets (§2.2, §2.3): new nodes of nodes, edges and faces in one array.
@@ -201,6 +203,20 @@ void ClothEngine<System>::run_cut(const std::vector<CutLine>& cuts, const CutOpt
                                 raw<std::uint8_t>(face_along_), raw<float>(face_point_bary_),
                                 raw<float>(node_rest_), raw<SplitCase>(table_)};
   for_each_index(f_count, face_info);
+  // Points that would leave a triangle sharper than the quality angle move onto their nearer node
+  // (within the quality snap distance), and the faces are resolved again. Two passes: a snap can
+  // change the split of the face across the edge. `snap` 0 asks for exact cut points: no snapping.
+  face_snap_edge_.resize(f_count);
+  const double max_cosine = std::cos(options.quality_angle_deg * 3.14159265358979323846 / 180.0);
+  const double quality_limit = std::min(options.quality_snap, 0.5);
+  for (int pass = 0; pass < 2 && options.quality_angle_deg > 0 && options.snap > 0; ++pass) {
+    for_each_index(f_count, request_quality_snaps{raw<index_t>(face_nodes_), raw<index_t>(topo_.face_edges), raw<std::uint16_t>(face_state_),
+                                                  raw<float>(edge_point_t_), raw<float>(face_point_bary_), raw<float>(node_rest_),
+                                                  raw<SplitCase>(table_), max_cosine, quality_limit, raw<std::int8_t>(face_snap_edge_)});
+    for_each_index(e_count, apply_quality_snaps{raw<index_t>(topo_.edge_faces), raw<index_t>(topo_.face_edges), raw<std::int8_t>(face_snap_edge_),
+                                                raw<std::uint8_t>(edge_point_), raw<float>(edge_point_t_)});
+    for_each_index(f_count, face_info);
+  }
   edge_cut_.resize(e_count);
   for_each_index(e_count, edge_cut_info{raw<index_t>(face_nodes_), raw<index_t>(topo_.edge_faces), raw<index_t>(topo_.edge_nodes),
                                         raw<index_t>(topo_.face_edges), raw<std::uint8_t>(face_along_), raw<std::uint8_t>(edge_cut_)});
