@@ -46,10 +46,12 @@ struct Traits<Omp> {
   template <class T>
   using vector = thrust::omp::vector<T>;
   static auto policy() { return thrust::omp::par; }
-  /// The policy with Thrust's temporary storage (sort and scan buffers) taken from `alloc`.
+  /// The policy for stages given a temporary allocator: on the CPU, Thrust's own (malloc is cheap,
+  /// and the OpenMP algorithms may allocate from several threads at once, which the caching
+  /// allocator is not made for).
   template <class Allocator>
-  static auto policy(Allocator& alloc) {
-    return thrust::omp::par(alloc);
+  static auto policy(Allocator&) {
+    return thrust::omp::par;
   }
   static void synchronize() {}
   static void* allocate_bytes(std::size_t n) { return std::malloc(n); }
@@ -64,6 +66,8 @@ struct Traits<Cuda> {
   // Stages queue on the default stream without waiting; reading a result back (a count, a total)
   // is what synchronises, so a cut waits only where it needs a number on the host.
   static auto policy() { return thrust::cuda::par_nosync; }
+  /// Thrust's temporary storage (sort and scan buffers) taken from `alloc`, which keeps its blocks:
+  /// cudaMalloc and cudaFree synchronise the device, and a cut would otherwise call them per stage.
   template <class Allocator>
   static auto policy(Allocator& alloc) {
     return thrust::cuda::par_nosync(alloc);

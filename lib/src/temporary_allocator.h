@@ -11,7 +11,8 @@
 namespace tear::backend {
 
 /// Keeps every block it handed out; a request takes the smallest free block that fits. Blocks are
-/// freed when the allocator is destroyed. Not thread-safe: one per cloth.
+/// freed when the allocator is destroyed. Not thread-safe: one per cloth, used by the GPU backend
+/// (whose Thrust calls come from one host thread).
 template <class System>
 class TemporaryAllocator {
  public:
