@@ -420,11 +420,12 @@ TEST_CASE("remesh properties: a straight line across a sheet makes two pieces an
 TEST_CASE("remesh properties: the smallest angle after cuts on irregular sheets with the default snap",
           "[remesh][property]") {
   // Irregular sheets have angles of at least sheet_min_angle_deg (14); the default snap keeps
-  // every edge piece at least 0.2 of its edge, which bounds how thin one split can get, but not
-  // how thin splits of splits get over several frames. Measured (run with -s to print it): the
-  // worst over these seeds is 1.8 degrees; over 2,000 other seeds 2.5 after one frame and 1.03
-  // after up to three. The thinnest come from an edge-node line (a cut through a node after
-  // snapping) crossing the opposite edge near the snap limit, a split with no free choice.
+  // every edge piece at least 0.2 of its edge, which bounds how thin one split can get, and the
+  // quality snap (CutOptions::quality_angle_deg) moves a point within 0.3 of a node onto it where
+  // a split would go under 5 degrees; neither bounds how thin splits of splits get over several
+  // frames. Measured over seeds 2000..3999 (1 to 3 frames of random polylines): 1.93 degrees at
+  // worst (1.03 before the quality snap). The documented bound is 1.5 degrees
+  // (docs/remesher.md).
   const std::uint64_t base = tear::test::test_seed(2000);
   const bool one_seed = std::getenv("TEAR_TEST_SEED") != nullptr;
   double worst = 180;
@@ -441,7 +442,7 @@ TEST_CASE("remesh properties: the smallest angle after cuts on irregular sheets 
     for (const auto& frame : random_frames(random, s)) {
       cloth.cut(frame);
       const double angle = tear::test::min_angle_deg(cloth.mesh());
-      CHECK(angle >= 1.0);
+      CHECK(angle >= 1.5);
       if (angle < worst) {
         worst = angle;
         worst_seed = seed;
@@ -449,7 +450,7 @@ TEST_CASE("remesh properties: the smallest angle after cuts on irregular sheets 
     }
   }
   INFO("worst smallest angle " << worst << " degrees, seed " << worst_seed);
-  CHECK(worst >= 1.0);
+  CHECK(worst >= 1.5);
 }
 
 TEST_CASE("remesh properties: the same cuts on two fresh cloths give the same arrays", "[remesh][property]") {
