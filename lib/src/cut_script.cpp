@@ -1,5 +1,7 @@
 #include "tear/cut_script.h"
 
+#include "json_reader.h"
+
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
@@ -64,51 +66,7 @@ std::vector<const Cut*> CutScript::cuts_of_frame(int frame) const {
 
 namespace {
 
-// ---- key paths ---------------------------------------------------------------------------------
-
-// Keys that are not plain identifiers are written as ["..."], JSON-escaped, so a message stays on
-// one line whatever the key holds.
-bool is_plain_key(const std::string& key) {
-  if (key.empty() || std::isdigit(static_cast<unsigned char>(key[0]))) return false;
-  return std::all_of(key.begin(), key.end(),
-                     [](char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-'; });
-}
-
-std::string quoted(const std::string& s) { return json(s).dump(-1, ' ', false, json::error_handler_t::replace); }
-
-std::string child_path(const std::string& parent, const std::string& key) {
-  if (!is_plain_key(key)) return parent + "[" + quoted(key) + "]";
-  return parent.empty() ? key : parent + "." + key;
-}
-
-std::string child_path(const std::string& parent, std::size_t index) {
-  return parent + "[" + std::to_string(index) + "]";
-}
-
-std::string shown_path(const std::string& path) { return path.empty() ? "(root)" : path; }
-
-// What a value is, for "got ..." in messages: short and on one line.
-std::string describe(const json& value) {
-  switch (value.type()) {
-    case json::value_t::null:
-      return "null";
-    case json::value_t::boolean:
-      return value.get<bool>() ? "true" : "false";
-    case json::value_t::string: {
-      const auto& s = value.get_ref<const std::string&>();
-      constexpr std::size_t longest = 40;
-      return s.size() <= longest ? quoted(s) : quoted(s.substr(0, longest)) + "...";
-    }
-    case json::value_t::array:
-      if (value.empty()) return "an empty array";
-      return "an array of " + std::to_string(value.size()) + (value.size() == 1 ? " element" : " elements");
-    case json::value_t::object:
-      return value.empty() ? "an empty object" : "an object";
-    default:
-      if (value.is_number_float() && !std::isfinite(value.get<double>())) return "a non-finite number";
-      return value.dump();
-  }
-}
+using namespace json_reading;
 
 // ---- syntax --------------------------------------------------------------------------------------
 
@@ -224,71 +182,12 @@ json parse_json(const std::string& text, const std::string& file) {
 
 // ---- schema --------------------------------------------------------------------------------------
 
-class ScriptReader {
+class ScriptReader : public JsonReader {
  public:
-  explicit ScriptReader(const std::string& file) : file_(file) {}
+  using JsonReader::JsonReader;
 
-  [[noreturn]] void fail(const std::string& path, const std::string& what) const {
-    throw input_error(file_, shown_path(path) + ": " + what);
-  }
-
-  // An object holding only `allowed` keys. Unknown keys are errors so that a typo in a pipeline
-  // does not silently drop a cut or an option.
-  void expect_object(const json& value, const std::string& path, const std::vector<std::string>& allowed) const {
-    if (!value.is_object()) fail(path, "expected an object, got " + describe(value));
-    for (const auto& [key, member] : value.items()) {
-      if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
-      std::string list;
-      for (std::size_t i = 0; i < allowed.size(); ++i)
-        list += (i == 0 ? "" : i + 1 == allowed.size() ? " or " : ", ") + allowed[i];
-      fail(child_path(path, key), "unknown key (expected " + list + ")");
-    }
-  }
-
-  const json& member(const json& object, const std::string& path, const std::string& key,
-                     const std::string& expected) const {
-    const auto it = object.find(key);
-    if (it == object.end()) fail(child_path(path, key), "missing (expected " + expected + ")");
-    return *it;
-  }
-
-  double number(const json& value, const std::string& path) const {
-    if (!value.is_number()) fail(path, "expected a number, got " + describe(value));
-    const double x = value.get<double>();
-    if (!std::isfinite(x)) fail(path, "expected a finite number, got " + describe(value));
-    return x;
-  }
-
-  // JSON does not tell 4 from 4.0, and generators differ: any number with an integral value counts.
-  int integer(const json& value, const std::string& path, long long lo, long long hi,
-              const std::string& expected) const {
-    bool ok = false;
-    long long n = 0;
-    if (value.is_number_integer() || value.is_number_unsigned()) {
-      // Non-negative integers arrive as unsigned: compare them as unsigned, or 2^64 - 1 would pass as -1.
-      if (value.is_number_unsigned()) {
-        const unsigned long long u = value.get<unsigned long long>();
-        ok = u <= static_cast<unsigned long long>(hi) && static_cast<long long>(u) >= lo;
-      } else {
-        ok = value.get<long long>() >= lo && value.get<long long>() <= hi;
-      }
-      if (ok) n = value.get<long long>();
-    } else if (value.is_number_float()) {
-      const double x = value.get<double>();
-      ok = std::isfinite(x) && x == std::floor(x) && x >= static_cast<double>(lo) && x <= static_cast<double>(hi);
-      if (ok) n = static_cast<long long>(x);
-    }
-    if (!ok) fail(path, "expected " + expected + ", got " + describe(value));
-    return static_cast<int>(n);
-  }
-
-  template <std::size_t N>
-  std::array<double, N> point(const json& value, const std::string& path) const {
-    if (!value.is_array() || value.size() != N)
-      fail(path, "expected an array of " + std::to_string(N) + " numbers, got " + describe(value));
-    std::array<double, N> p{};
-    for (std::size_t i = 0; i < N; ++i) p[i] = number(value[i], child_path(path, i));
-    return p;
+  int integer(const json& value, const std::string& path, long long lo, long long hi, const std::string& expected) const {
+    return static_cast<int>(JsonReader::integer(value, path, lo, hi, expected));
   }
 
   template <std::size_t N>
@@ -306,9 +205,6 @@ class ScriptReader {
     if (v[0] == 0 && v[1] == 0 && v[2] == 0) fail(path, "expected a non-zero vector, got [0, 0, 0]");
     return v;
   }
-
- private:
-  const std::string& file_;
 };
 
 double length(const std::array<double, 3>& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
