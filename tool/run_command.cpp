@@ -21,6 +21,7 @@ struct RunCommandOptions {
   std::string script_path;
   std::string output_pattern;
   std::string device = "auto";
+  std::string report_path;
   ReadOptions read;
   int frames = 0;
   bool verbose = false;
@@ -55,6 +56,7 @@ void run_run(const RunCommandOptions& options) {
   run.output_pattern = options.output_pattern;
   run.frames = options.frames;
   run.device = device;
+  run.report_path = options.report_path;
   const int frame_count = options.frames == 0 ? script.frames : options.frames;
   if (frame_count > script.frames)
     throw Error(ErrorKind::usage, options.script_path + ": --frames " + std::to_string(frame_count) +
@@ -88,6 +90,9 @@ void add_run_command(CLI::App& app) {
       ->type_name("N")
       ->check(CLI::Validator(check_positive_int, ""));
   command->add_flag("-v,--verbose", options->verbose, "Print one line per frame written: cuts, counts, file");
+  command->add_option("--report", options->report_path,
+                      "Write a JSON report (per-frame counts and timings, totals) to FILE at the end")
+      ->type_name("FILE");
   add_device_option(*command, options->device);
   add_read_options(*command, options->read);
   command->callback([options] { run_run(*options); });

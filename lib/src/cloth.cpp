@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "cloth_engine.h"
+#include "tear/error.h"
 
 namespace tear {
 
@@ -93,8 +94,18 @@ index_t Cloth::face_count() const { return engine_->face_count(); }
 CutStats Cloth::cut(const std::vector<CutLine>& cuts, const CutOptions& options) { return engine_->cut(cuts, options); }
 Mesh Cloth::mesh() const { return engine_->mesh(); }
 Topology Cloth::topology() const { return engine_->topology(); }
+std::vector<float> Cloth::node_pos() const { return engine_->node_pos(); }
 std::vector<float> Cloth::node_rest() const { return engine_->node_rest(); }
 std::vector<float> Cloth::node_vel() const { return engine_->node_vel(); }
 CutProvenance Cloth::provenance() const { return engine_->provenance(); }
+
+void Cloth::set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) {
+  const std::size_t expected = 3 * std::size_t(node_count());
+  if (node_pos.size() != expected || node_vel.size() != expected)
+    throw Error(ErrorKind::usage, "Cloth::set_node_state: expected " + std::to_string(expected) +
+                                      " coordinates each, got " + std::to_string(node_pos.size()) + " positions and " +
+                                      std::to_string(node_vel.size()) + " velocities");
+  engine_->set_node_state(node_pos, node_vel);
+}
 
 }  // namespace tear

@@ -17,9 +17,12 @@ class Cloth::Engine {
   virtual CutStats cut(const std::vector<CutLine>& cuts, const CutOptions& options) = 0;
   virtual Mesh mesh() const = 0;
   virtual Topology topology() const = 0;
+  virtual std::vector<float> node_pos() const = 0;
   virtual std::vector<float> node_rest() const = 0;
   virtual std::vector<float> node_vel() const = 0;
   virtual CutProvenance provenance() const = 0;
+  /// Sizes already checked by `Cloth::set_node_state`.
+  virtual void set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) = 0;
 };
 
 namespace backend {

@@ -79,6 +79,7 @@ class ClothEngine final : public Cloth::Engine {
     return m;
   }
   Topology topology() const override { return download(topo_); }
+  std::vector<float> node_pos() const override { return to_host<float>(node_pos_); }
   std::vector<float> node_rest() const override { return to_host<float>(node_rest_); }
   std::vector<float> node_vel() const override { return to_host<float>(node_vel_); }
   CutProvenance provenance() const override {
@@ -87,6 +88,10 @@ class ClothEngine final : public Cloth::Engine {
     p.node_source_weight = to_host<float>(node_source_weight_);
     p.face_parent = to_host<index_t>(face_parent_);
     return p;
+  }
+  void set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) override {
+    node_pos_.assign(node_pos.begin(), node_pos.end());
+    node_vel_.assign(node_vel.begin(), node_vel.end());
   }
 
  private:

@@ -90,8 +90,12 @@ class Cloth {
   /// The current mesh: positions, faces, per-corner UVs and normals.
   Mesh mesh() const;
   Topology topology() const;
-  std::vector<float> node_rest() const;
-  std::vector<float> node_vel() const;
+  std::vector<float> node_pos() const;   ///< [node_count * 3] metres
+  std::vector<float> node_rest() const;  ///< [node_count * 3] metres
+  std::vector<float> node_vel() const;   ///< [node_count * 3] m/s
+  /// Replaces the positions and velocities, both [node_count * 3] (a usage `Error` otherwise), from
+  /// the host; rest positions stay. A simulation step hands its result back to the cloth this way.
+  void set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel);
   /// Provenance of the last cut (empty before the first).
   CutProvenance provenance() const;
 
