@@ -24,6 +24,9 @@ void add_bench_command(CLI::App& app);
 /// `tear run MESH SCRIPT -o PATTERN`: a cut script applied frame by frame, one mesh file per frame.
 void add_run_command(CLI::App& app);
 
+/// `tear demo [-o DIR]`: the paper's scene, generated, torn and simulated, one OBJ per frame.
+void add_demo_command(CLI::App& app);
+
 /// `tear validate SCRIPT [MESH]`: the script's checks, and with MESH those of `tear run` against it.
 void add_validate_command(CLI::App& app);
 

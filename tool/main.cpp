@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
   tear::cli::add_run_command(app);
   tear::cli::add_validate_command(app);
   tear::cli::add_bench_command(app);
+  tear::cli::add_demo_command(app);
 
   try {
     app.parse(argc, argv);  // the chosen subcommand runs inside, as its callback
