@@ -397,4 +397,15 @@ TEST_CASE("validate: a bad script, a script the mesh cannot take, a mesh that ca
   check_refused(fixture.dir.tear("validate --device cpu " + quoted(plane) + " " + quoted(fin)), 2,
                 "fin.obj: cannot be cut: ", fixture.out);
   check_refused(fixture.dir.tear("validate " + quoted(fixture.dir / "missing.json")), 2, "missing.json", fixture.out);
+
+  // What `run` would refuse in the simulation block, `validate` refuses too: the schema alone, and
+  // node pins against the mesh.
+  const fs::path bad_rho = fixture.dir.file(
+      "bad_rho.json", R"({ "version": 1, "frames": 1, "simulation": { "chebyshev": { "rho": 2 } } })");
+  check_refused(fixture.dir.tear("validate " + quoted(bad_rho)), 2, "bad_rho.json: simulation.chebyshev.rho", fixture.out);
+  const fs::path far_pin = fixture.dir.file(
+      "far_pin.json", R"({ "version": 1, "frames": 1, "simulation": { "pins": [ { "nodes": [100000] } ] } })");
+  CHECK(fixture.dir.tear("validate " + quoted(far_pin)).exit_code == 0);
+  check_refused(fixture.dir.tear("validate --device cpu " + quoted(far_pin) + " " + quoted(fixture.mesh)), 2,
+                "far_pin.json: simulation.pins[0]", fixture.out);
 }

@@ -180,6 +180,9 @@ void check_cuttable(const Mesh& mesh, const std::string& mesh_path, Device devic
 void check_run_inputs(const CutScript& script, const Mesh& mesh, const std::string& mesh_path, Device device) {
   check_script_against_mesh(script, mesh, mesh_path);
   check_cuttable(mesh, mesh_path, device);
+  // The simulation block, and its node pins against this mesh.
+  if (!script.simulation.is_null())
+    resolve_pins(parse_simulation(script.simulation, script.path), mesh.node_pos, mesh.node_count());
 }
 
 void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame) {
@@ -226,8 +229,6 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
   check_frame_count(script, frame_count);
   pattern.check(frame_count);
   check_run_inputs(script, mesh, mesh_path, options.device);
-  if (!script.simulation.is_null())
-    resolve_pins(parse_simulation(script.simulation, script.path), mesh.node_pos, mesh.node_count());
 
   nlohmann::json frames = nlohmann::json::array();
   double remesh_ms = 0, simulation_ms = 0;

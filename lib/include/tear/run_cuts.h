@@ -18,7 +18,8 @@ namespace tear {
 /// manifold.
 void check_cuttable(const Mesh& mesh, const std::string& mesh_path, Device device);
 
-/// Every check of a run that needs no output: `check_script_against_mesh`, then `check_cuttable`.
+/// Every check of a run that needs no output: `check_script_against_mesh`, `check_cuttable`, and
+/// the script's `simulation` block (`parse_simulation`, node pins within the mesh).
 void check_run_inputs(const CutScript& script, const Mesh& mesh, const std::string& mesh_path, Device device);
 
 /// What one frame of a run did.
