@@ -18,52 +18,14 @@
 #include "tear/error.h"
 #include "tear/read_mesh.h"
 #include "tear/simulation.h"
+#include "cli_support.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
 
-namespace {
-
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
-struct Run {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string pattern = (fs::temp_directory_path() / "tear_test_demo.XXXXXX").string();
-    REQUIRE(mkdtemp(pattern.data()) != nullptr);
-    path = pattern;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-  fs::path operator/(const std::string& name) const { return path / name; }
-  Run tear(const std::string& args) const {
-    const fs::path out = path / "stdout.txt", err = path / "stderr.txt";
-    const std::string command =
-        "'" + std::string(TEAR_BINARY) + "' " + args + " >'" + out.string() + "' 2>'" + err.string() + "'";
-    INFO(command);
-    const int status = std::system(command.c_str());
-    REQUIRE(status != -1);
-    REQUIRE(WIFEXITED(status));
-    Run run{WEXITSTATUS(status), read_bytes(out), read_bytes(err)};
-    fs::remove(out);
-    fs::remove(err);
-    return run;
-  }
-};
-
-}  // namespace
+using tear::test::read_bytes;
+using tear::test::Run;
+using tear::test::TempDir;
 
 TEST_CASE("demo_script: six cuts a third of a second apart, the top edge pinned", "[run]") {
   const tear::CutScript script = tear::demo_script();

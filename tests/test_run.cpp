@@ -19,24 +19,19 @@
 #include "tear/run_cuts.h"
 #include "tear/validate_mesh.h"
 #include "tear/write_mesh.h"
+#include "cli_support.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
 using tear::test::test_device;
 
+using tear::test::quoted;
+using tear::test::read_bytes;
+using tear::test::regular_sheet;
+using tear::test::Run;
+using tear::test::TempDir;
+
 namespace {
-
-struct Run {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
 
 std::size_t count_lines_starting(const std::string& text, const std::string& prefix) {
   std::size_t count = 0;
@@ -44,47 +39,6 @@ std::size_t count_lines_starting(const std::string& text, const std::string& pre
   for (std::string line; std::getline(lines, line);)
     if (line.rfind(prefix, 0) == 0) ++count;
   return count;
-}
-
-std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
-
-/// A fresh folder for one test case, removed with everything in it at the end.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string pattern = (fs::temp_directory_path() / "tear_test_run.XXXXXX").string();
-    REQUIRE(mkdtemp(pattern.data()) != nullptr);
-    path = pattern;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-  fs::path operator/(const std::string& name) const { return path / name; }
-  fs::path file(const std::string& name, const std::string& text) const {
-    std::ofstream(path / name, std::ios::binary) << text;
-    return path / name;
-  }
-  /// Runs `tear ARGS`, capturing stdout and stderr. A crash (signal) fails the test.
-  Run tear(const std::string& args) const {
-    const fs::path out = path / "stdout.txt", err = path / "stderr.txt";
-    const std::string command = "'" + std::string(TEAR_BINARY) + "' " + args + " >" + quoted(out) + " 2>" + quoted(err);
-    INFO(command);
-    const int status = std::system(command.c_str());
-    REQUIRE(status != -1);
-    REQUIRE(WIFEXITED(status));
-    Run run{WEXITSTATUS(status), read_bytes(out), read_bytes(err)};
-    fs::remove(out);
-    fs::remove(err);
-    return run;
-  }
-};
-
-tear::Mesh regular_sheet() {
-  tear::SheetOptions options;
-  options.face_count = 200;
-  options.irregular = false;
-  return tear::make_sheet(options);
 }
 
 /// The four kinds of cut, one per frame, off the sheet's grid lines (a 10 x 10 grid of 0.1 m).

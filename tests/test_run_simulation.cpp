@@ -22,65 +22,19 @@
 #include "tear/run_cuts.h"
 #include "tear/validate_mesh.h"
 #include "tear/write_mesh.h"
+#include "cli_support.h"
 #include "test_support.h"
 
 namespace fs = std::filesystem;
 using tear::test::test_device;
 
+using tear::test::quoted;
+using tear::test::read_bytes;
+using tear::test::regular_sheet;
+using tear::test::Run;
+using tear::test::TempDir;
+
 namespace {
-
-std::string read_bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream bytes;
-  bytes << in.rdbuf();
-  return bytes.str();
-}
-
-std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
-
-struct Run {
-  int exit_code = -1;
-  std::string out, err;
-};
-
-/// A fresh folder for one test case, removed with everything in it at the end.
-struct TempDir {
-  fs::path path;
-  TempDir() {
-    std::string pattern = (fs::temp_directory_path() / "tear_test_sim.XXXXXX").string();
-    REQUIRE(mkdtemp(pattern.data()) != nullptr);
-    path = pattern;
-  }
-  ~TempDir() {
-    std::error_code ignored;
-    fs::remove_all(path, ignored);
-  }
-  fs::path operator/(const std::string& name) const { return path / name; }
-  fs::path file(const std::string& name, const std::string& text) const {
-    std::ofstream(path / name, std::ios::binary) << text;
-    return path / name;
-  }
-  Run tear(const std::string& args) const {
-    const fs::path out = path / "stdout.txt", err = path / "stderr.txt";
-    const std::string command = "'" + std::string(TEAR_BINARY) + "' " + args + " >" + quoted(out) + " 2>" + quoted(err);
-    INFO(command);
-    const int status = std::system(command.c_str());
-    REQUIRE(status != -1);
-    REQUIRE(WIFEXITED(status));
-    Run run{WEXITSTATUS(status), read_bytes(out), read_bytes(err)};
-    fs::remove(out);
-    fs::remove(err);
-    return run;
-  }
-};
-
-/// The regular 200-face sheet: a 10 x 10 grid of 0.1 m, node 0 at the origin.
-tear::Mesh regular_sheet() {
-  tear::SheetOptions options;
-  options.face_count = 200;
-  options.irregular = false;
-  return tear::make_sheet(options);
-}
 
 /// Top edge pinned by a box, node 0 (the bottom-left corner) by index; at frame 2 a cut right across
 /// the sheet between its grid rows separates the bottom part, which then hangs from node 0 alone.
