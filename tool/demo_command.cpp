@@ -7,6 +7,7 @@
 #include <string>
 
 #include "commands.h"
+#include "progress.h"
 #include "tear/demo_scene.h"
 #include "tear/error.h"
 #include "tear/run_cuts.h"
@@ -35,7 +36,12 @@ void run_demo(const DemoCommandOptions& options) {
   run.device = device;
   run.report_path = options.report_path;
   const std::string mesh_name = "(demo sheet, " + std::string(to_string(resolution)) + " resolution)";
+  ProgressBar progress(options.frames);
+  run.on_frame = [&](const FrameResult& frame, const Cloth&) {
+    progress.update(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
+  };
   const RunSummary summary = run_to_files(sheet, mesh_name, script, run);
+  progress.finish();
 
   std::ostringstream line;
   line << "demo: " << summary.frames << " frames, " << sheet.face_count() << " -> " << summary.faces << " faces, "

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "commands.h"
+#include "progress.h"
 #include "tear/cut_script.h"
 #include "tear/error.h"
 #include "tear/frame_path.h"
@@ -61,8 +62,14 @@ void run_run(const RunCommandOptions& options) {
   if (frame_count > script.frames)
     throw Error(ErrorKind::usage, options.script_path + ": --frames " + std::to_string(frame_count) +
                                       " is more than the script's " + std::to_string(script.frames) + " frames");
-  if (options.verbose)
-    run.on_frame = [frame_count](const FrameResult& frame, const Cloth&) { print_frame(frame, frame_count); };
+  ProgressBar progress(frame_count);
+  run.on_frame = [&](const FrameResult& frame, const Cloth&) {
+    if (options.verbose) {
+      progress.finish();
+      print_frame(frame, frame_count);
+    }
+    progress.update(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
+  };
   run_to_files(mesh, options.mesh_path, script, run);
 }
 
