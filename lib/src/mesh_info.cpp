@@ -1,5 +1,7 @@
 #include "tear/mesh_info.h"
 
+#include "disjoint_sets.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,29 +12,6 @@ namespace tear {
 
 namespace {
 
-/// Union-find with path halving; union by lower root keeps the result independent of order.
-class DisjointSets {
- public:
-  explicit DisjointSets(index_t count) : parent_(static_cast<std::size_t>(count)) {
-    std::iota(parent_.begin(), parent_.end(), index_t(0));
-  }
-  index_t find(index_t x) {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-  void unite(index_t a, index_t b) {
-    a = find(a);
-    b = find(b);
-    if (a < b) parent_[b] = a;
-    if (b < a) parent_[a] = b;
-  }
-
- private:
-  std::vector<index_t> parent_;
-};
 
 constexpr double kPi = 3.14159265358979323846;
 

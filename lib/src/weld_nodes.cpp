@@ -9,6 +9,8 @@
 #include "tear/error.h"
 #include "tear/read_mesh.h"
 
+#include "disjoint_sets.h"
+
 namespace tear {
 namespace {
 
@@ -17,32 +19,10 @@ bool node_is_finite(const std::vector<float>& node_pos, index_t node) {
          std::isfinite(node_pos[3 * node + 2]);
 }
 
-/// Union-find whose root is always the lowest index of its set, so the result does not depend on
-/// the order in which pairs are linked.
-struct LowestRootSets {
-  std::vector<index_t> parent;
-
-  explicit LowestRootSets(index_t count) : parent(count) { std::iota(parent.begin(), parent.end(), 0); }
-
-  index_t find(index_t a) {
-    while (parent[a] != a) {
-      parent[a] = parent[parent[a]];
-      a = parent[a];
-    }
-    return a;
-  }
-
-  void link(index_t a, index_t b) {
-    a = find(a);
-    b = find(b);
-    if (a < b) parent[b] = a;
-    if (b < a) parent[a] = b;
-  }
-};
 
 /// Exact welding: sort by position (ties by index), so each run of equal positions starts with its
 /// lowest index.
-void link_identical(const std::vector<float>& node_pos, const std::vector<index_t>& nodes, LowestRootSets& sets) {
+void link_identical(const std::vector<float>& node_pos, const std::vector<index_t>& nodes, DisjointSets& sets) {
   std::vector<index_t> order = nodes;
   auto less = [&](index_t a, index_t b) {
     for (int k = 0; k < 3; ++k) {
@@ -55,7 +35,7 @@ void link_identical(const std::vector<float>& node_pos, const std::vector<index_
     const index_t a = order[i - 1], b = order[i];
     if (node_pos[3 * a] == node_pos[3 * b] && node_pos[3 * a + 1] == node_pos[3 * b + 1] &&
         node_pos[3 * a + 2] == node_pos[3 * b + 2]) {
-      sets.link(a, b);
+      sets.unite(a, b);
     }
   }
 }
@@ -63,7 +43,7 @@ void link_identical(const std::vector<float>& node_pos, const std::vector<index_
 /// Welding within `tolerance`: nodes are binned in a grid of cell size `tolerance`, so two nodes
 /// within tolerance of each other lie in the same or in neighbouring cells.
 void link_within(const std::vector<float>& node_pos, const std::vector<index_t>& nodes, double tolerance,
-                 LowestRootSets& sets) {
+                 DisjointSets& sets) {
   // Clamping far-away cells only merges cells (more candidates), the exact test below decides.
   constexpr double cell_limit = 1e15;
   auto cell_of = [&](index_t node, int k) {
@@ -101,7 +81,7 @@ void link_within(const std::vector<float>& node_pos, const std::vector<index_t>&
           auto found = cell_nodes.find(Cell{home.x + dx, home.y + dy, home.z + dz});
           if (found == cell_nodes.end()) continue;
           for (index_t other : found->second) {
-            if (other > node && close(node, other)) sets.link(node, other);
+            if (other > node && close(node, other)) sets.unite(node, other);
           }
         }
       }
@@ -137,7 +117,7 @@ void weld_nodes(Mesh& mesh, double tolerance) {
   for (index_t node = 0; node < node_count; ++node) {
     if (node_used[node] && node_is_finite(mesh.node_pos, node)) weldable.push_back(node);
   }
-  LowestRootSets sets(node_count);
+  DisjointSets sets(node_count);
   if (tolerance == 0.0) {
     link_identical(mesh.node_pos, weldable, sets);
   } else {
