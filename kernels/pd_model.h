@@ -136,7 +136,14 @@ struct make_slot_keys {
   }
 };
 
-/// Diagonal of the global matrix M/h² + Σ w AᵀA at each node, gathered over its slots.
+/// The Jacobi diagonal: M/h² + Σ_c w_c βᵢ kᵢ² at each node, gathered over its slots, with
+/// βᵢ = max(1, Σⱼ|kⱼ| / (2|kᵢ|)) per constraint. With β = 1 it is the diagonal of the global matrix
+/// M/h² + Σ w AᵀA; the βs make D ≥ A/2 for every constraint alone (w k kᵀ ≤ 2 w diag(β k²) by
+/// Cauchy–Schwarz with weights |kᵢ|), so λ(D⁻¹A) < 2 on any mesh and the under-relaxed Jacobi
+/// iteration cannot diverge. An edge spring (k = ±1) keeps β = 1: its term is exact. A hinge gets
+/// β = 2 at most nodes of a well-shaped one; on a sliver its small coefficients get the large βs, so
+/// that one stiff hinge cannot drive its nodes into oscillation (it would with β = 1: a hinge alone
+/// has λ(D⁻¹A) = 4).
 struct compute_jacobi_diagonal {
   const index_t* node_slot_offset;
   const index_t* node_slots;  // slot s = 4 c + j of constraint c
@@ -149,8 +156,11 @@ struct compute_jacobi_diagonal {
     float d = node_mass[n] * inv_h2;
     for (index_t i = node_slot_offset[n]; i < node_slot_offset[n + 1]; ++i) {
       const index_t s = node_slots[i];
-      const float k = constraint_coef[s];
-      d += constraint_weight[s / pd_constraint_nodes] * k * k;
+      const index_t c = s / pd_constraint_nodes;
+      const float k = fabsf(constraint_coef[s]);
+      float sum = 0.0f;
+      for (int j = 0; j < pd_constraint_nodes; ++j) sum += fabsf(constraint_coef[pd_constraint_nodes * c + j]);
+      d += constraint_weight[c] * k * (0.5f * sum > k ? 0.5f * sum : k);
     }
     node_diag[n] = d;
   }

@@ -378,7 +378,10 @@ TEST_CASE("simulation: an unpinned sheet falls as implicit Euler predicts", "[si
   const double h = o.step_seconds(), t = steps * h, g = 9.81;
   const double euler_drop = g * h * h * steps * (steps + 1) / 2.0;
   CHECK(euler_drop - 0.5 * g * t * t == Approx(0.5 * g * h * t));
-  // The sheet keeps its rest shape, so its constraints pull on nothing: float rounding only.
+  // The sheet keeps its rest shape, so its constraints pull on nothing: float rounding only. A
+  // rounding error of one ulp of |y| per step enters the velocity and is integrated again, so after
+  // N steps the drift is of the order of ulp · N^1.5 (4e-5 m for 48 steps at |y| ≈ 1.3 m); a
+  // constraint that pulled would move nodes by millimetres.
   double worst = 0;
   for (index_t n = 0; n < mesh.node_count(); ++n) {
     worst = std::max(worst, std::abs(double(pos[3 * n + 1]) - (mesh.node_pos[3 * n + 1] - euler_drop)));
@@ -386,7 +389,8 @@ TEST_CASE("simulation: an unpinned sheet falls as implicit Euler predicts", "[si
     worst = std::max(worst, std::abs(double(pos[3 * n + 2]) - mesh.node_pos[3 * n + 2]));
   }
   INFO("largest deviation from the implicit Euler drop " << worst << " m");
-  CHECK(worst < 1e-5);
+  const double ulp = std::nextafter(float(euler_drop), 2.0f) - float(euler_drop);
+  CHECK(worst < ulp * std::pow(double(steps), 1.5));
   const auto vel = solver.node_vel();
   for (index_t n = 0; n < mesh.node_count(); ++n) CHECK(vel[3 * n + 1] == Approx(-g * t).epsilon(1e-4));
 }
@@ -442,11 +446,18 @@ TEST_CASE("simulation: a sheet pinned along one edge swings down and comes to re
     if (mesh.node_pos[3 * n + 2] == 1.0f) CHECK(pos[3 * n + 1] < -0.9);  // the free edge hangs at the bottom
 }
 
-TEST_CASE("simulation: bending stiffness holds a pinned sheet up", "[simulation]") {
+TEST_CASE("simulation: bending stiffness holds a clamped sheet up", "[simulation]") {
+  // A 10 × 10 grid: rows 0.1 m apart. One pinned row is a hinge joint that no bending constraint
+  // spans (its edges are boundary edges), so the sheet swings down whatever its stiffness; pinning
+  // the first two rows clamps it, and the hinges of the second row carry the cantilever. The exact
+  // solve (tests/pd_oracle.h) puts the lowest point at -0.84 m without bending and -0.074 m with
+  // 1 N·m after a second.
   const tear::Mesh mesh = horizontal_sheet(200);
   const auto lowest_after_a_second = [&](double bend_stiffness) {
     SimulationOptions o;
-    o.pins = {edge_pin()};
+    tear::Pin clamp = edge_pin();
+    clamp.max[2] = 0.1 + 1e-6;
+    o.pins = {clamp};
     o.damping = 0.9;
     o.bend_stiffness = bend_stiffness;
     PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
@@ -459,7 +470,7 @@ TEST_CASE("simulation: bending stiffness holds a pinned sheet up", "[simulation]
   const double limp = lowest_after_a_second(0), stiff = lowest_after_a_second(1.0);
   INFO("lowest point without bending " << limp << " m, with 1 N·m " << stiff << " m");
   CHECK(limp < -0.8);
-  CHECK(stiff > -0.5);
+  CHECK(stiff > -0.2);
 }
 
 TEST_CASE("simulation: colliders keep nodes out", "[simulation]") {
