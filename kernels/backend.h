@@ -13,6 +13,7 @@
 #include <thrust/system/omp/execution_policy.h>
 #include <thrust/system/omp/vector.h>
 
+#include "device_memory.h"
 #include "systems.h"
 
 #if TEAR_WITH_CUDA && defined(__CUDACC__)
@@ -55,14 +56,41 @@ struct Traits<Omp> {
   }
   static void synchronize() {}
   static void* allocate_bytes(std::size_t n) { return std::malloc(n); }
-  static void free_bytes(void* p) { std::free(p); }
+  static void free_bytes(void* p, std::size_t) { std::free(p); }
 };
 
 #if TEAR_CUDA_SYSTEM
+/// Thrust's CUDA allocator, with every allocation counted (`device_memory_peak`).
+template <class T>
+struct CountingCudaAllocator : thrust::cuda::allocator<T> {
+  using base = thrust::cuda::allocator<T>;
+  using value_type = T;
+  using pointer = typename base::pointer;
+  using size_type = typename base::size_type;
+  template <class U>
+  struct rebind {
+    using other = CountingCudaAllocator<U>;
+  };
+  CountingCudaAllocator() = default;
+  template <class U>
+  CountingCudaAllocator(const CountingCudaAllocator<U>&) noexcept {}
+  pointer allocate(size_type n) {
+    pointer p = base::allocate(n);
+    count_device_allocation(n * sizeof(T));
+    return p;
+  }
+  void deallocate(pointer p, size_type n) noexcept {
+    base::deallocate(p, n);
+    count_device_release(n * sizeof(T));
+  }
+  bool operator==(const CountingCudaAllocator&) const { return true; }
+  bool operator!=(const CountingCudaAllocator&) const { return false; }
+};
+
 template <>
 struct Traits<Cuda> {
   template <class T>
-  using vector = thrust::cuda::vector<T>;
+  using vector = thrust::cuda::vector<T, CountingCudaAllocator<T>>;
   // Stages queue on the default stream without waiting; reading a result back (a count, a total)
   // is what synchronises, so a cut waits only where it needs a number on the host.
   static auto policy() { return thrust::cuda::par_nosync; }
@@ -75,9 +103,14 @@ struct Traits<Cuda> {
   static void synchronize() { cudaStreamSynchronize(0); }
   static void* allocate_bytes(std::size_t n) {
     void* p = nullptr;
-    return cudaMalloc(&p, n) == cudaSuccess ? p : nullptr;
+    if (cudaMalloc(&p, n) != cudaSuccess) return nullptr;
+    count_device_allocation(n);
+    return p;
   }
-  static void free_bytes(void* p) { cudaFree(p); }
+  static void free_bytes(void* p, std::size_t n) {
+    cudaFree(p);
+    count_device_release(n);
+  }
 };
 #endif
 

@@ -1,4 +1,4 @@
-// `tear bench`: the built-in benchmark on generated sheets.
+// `tear bench`: the built-in benchmark on generated sheets and the paper's scene.
 #include <cstdio>
 #include <string>
 #include <vector>
@@ -15,64 +15,166 @@ struct BenchArgs {
   std::string device = "auto";
   std::vector<index_t> faces;
   int repeats = 7;
+  int iterations = 100;
+  std::vector<std::string> only;
   std::string json_path;
   bool no_cpu = false;
 };
 
-void print_row(const BenchRow& r, const BenchRow* cpu) {
+double mib(std::size_t bytes) { return double(bytes) / (1 << 20); }
+
+void print_remesh_row(const BenchRow& r, const BenchRow* cpu) {
   std::printf("%10d  %-4s  %10.3f  %12.3e", r.faces, to_string(r.device), r.remesh_ms, r.faces_per_s);
   for (double ms : r.stage_ms) std::printf("  %8.3f", ms);
+  if (r.device == Device::cuda)
+    std::printf("  %9.1f  %7.0f", mib(r.peak_device_bytes), double(r.peak_device_bytes) / r.faces);
+  else
+    std::printf("  %9s  %7s", "-", "-");
   if (cpu && r.remesh_ms > 0) std::printf("  %8.1fx", cpu->remesh_ms / r.remesh_ms);
   std::printf("\n");
 }
 
+void print_pd_row(const PdBenchRow& r, const PdBenchRow* cpu) {
+  std::printf("%10d  %9d  %-4s  %9.3f  %10.4f  %12.3e  %9.1f  %9.3f", r.faces, r.nodes, to_string(r.device), r.step_ms,
+              r.iteration_ms, r.node_iterations_per_s, double(r.bytes_per_iteration) / r.nodes, r.floor_ms);
+  if (r.device == Device::cuda)
+    std::printf("  %9.1f", mib(r.peak_device_bytes));
+  else
+    std::printf("  %9s", "-");
+  if (cpu && r.step_ms > 0) std::printf("  %8.1fx", cpu->step_ms / r.step_ms);
+  std::printf("\n");
+}
+
+void print_scene_row(const SceneBenchRow& r, const SceneBenchRow* cpu) {
+  std::printf("%-7s  %8d  %8d  %-4s  %9.3f  %9.3f  %10.2f  %12.2f", r.resolution.c_str(), r.faces_start, r.faces_end,
+              to_string(r.device), r.frame_ms_mean, r.frame_ms_max, r.remesh_ms, r.simulation_ms);
+  if (cpu && r.frame_ms_mean > 0) std::printf("  %8.1fx", cpu->frame_ms_mean / r.frame_ms_mean);
+  std::printf("\n");
+}
+
+bool wanted(const BenchArgs& args, const std::string& part) {
+  if (args.only.empty()) return true;
+  for (const std::string& p : args.only)
+    if (p == part) return true;
+  return false;
+}
+
 void run_bench(const BenchArgs& args) {
+  for (const std::string& part : args.only)
+    if (part != "remesh" && part != "pd" && part != "scene")
+      throw Error(ErrorKind::usage, "--only " + part + ": expected remesh, pd or scene");
   const Device device = select_device(args.device);
+  const bool with_cpu = device == Device::cuda && !args.no_cpu;
   BenchOptions options;
   if (!args.faces.empty()) options.face_counts = args.faces;
   options.repeats = args.repeats;
-  std::printf("tear bench: remesh by a %d-segment cut, median of %d runs (ms)\n", options.segments, options.repeats);
-  std::printf("device: %s\n", device_name(device).c_str());
-  std::printf("%10s  %-4s  %10s  %12s", "faces", "dev", "remesh", "faces/s");
-  for (int s = 0; s < static_cast<int>(CutStage::count); ++s) std::printf("  %8.8s", to_string(static_cast<CutStage>(s)));
-  std::printf("%s\n", device == Device::cuda && !args.no_cpu ? "  cpu/gpu" : "");
-  std::fflush(stdout);
+  options.iterations = args.iterations;
+  std::printf("tear bench on %s%s; medians of %d runs, milliseconds\n", device_name(device).c_str(),
+              with_cpu ? (" and " + device_name(Device::cpu)).c_str() : "", options.repeats);
+  nlohmann::json doc = {{"device_name", device_name(device)},
+                        {"cpu_name", device_name(Device::cpu)},
+                        {"repeats", options.repeats},
+                        {"iterations", options.iterations},
+                        {"segments", options.segments}};
 
-  nlohmann::json rows = nlohmann::json::array();
-  for (index_t faces : options.face_counts) {
-    BenchOptions one = options;
-    one.face_counts = {faces};
-    const BenchRow row = run_remesh_bench(one, device)[0];
-    rows.push_back(to_json(row));
-    if (device == Device::cuda && !args.no_cpu) {
-      const BenchRow cpu = run_remesh_bench(one, Device::cpu)[0];
-      rows.push_back(to_json(cpu));
-      print_row(cpu, nullptr);
-      print_row(row, &cpu);
-    } else {
-      print_row(row, nullptr);
-    }
+  if (wanted(args, "remesh")) {
+    std::printf("\nremesh: one cut by a %d-segment zigzag across an irregular sheet\n", options.segments);
+    std::printf("%10s  %-4s  %10s  %12s", "faces", "dev", "remesh", "faces/s");
+    for (int s = 0; s < static_cast<int>(CutStage::count); ++s)
+      std::printf("  %8.8s", to_string(static_cast<CutStage>(s)));
+    std::printf("  %9s  %7s%s\n", "peak MiB", "B/face", with_cpu ? "  cpu/gpu" : "");
     std::fflush(stdout);
+    nlohmann::json rows = nlohmann::json::array();
+    for (index_t faces : options.face_counts) {
+      BenchOptions one = options;
+      one.face_counts = {faces};
+      const BenchRow row = run_remesh_bench(one, device)[0];
+      rows.push_back(to_json(row));
+      if (with_cpu) {
+        const BenchRow cpu = run_remesh_bench(one, Device::cpu)[0];
+        rows.push_back(to_json(cpu));
+        print_remesh_row(cpu, nullptr);
+        print_remesh_row(row, &cpu);
+      } else {
+        print_remesh_row(row, nullptr);
+      }
+      std::fflush(stdout);
+    }
+    doc["remesh"] = rows;
   }
-  if (!args.json_path.empty()) {
-    const nlohmann::json doc = {{"benchmark", "remesh"}, {"segments", options.segments}, {"repeats", options.repeats},
-                                {"device_name", device_name(device)}, {"rows", rows}};
-    write_file_atomically(args.json_path, doc.dump(2) + "\n");
+
+  if (wanted(args, "pd")) {
+    const double bandwidth = measure_copy_bandwidth(device);
+    const double cpu_bandwidth = with_cpu ? measure_copy_bandwidth(Device::cpu) : 0.0;
+    std::printf("\nsolver: one step of %d iterations, sheet pinned along its top edge; copy bandwidth %.0f GB/s",
+                options.iterations, bandwidth * 1e-9);
+    if (with_cpu) std::printf(" (cpu %.0f GB/s)", cpu_bandwidth * 1e-9);
+    std::printf("\n%10s  %9s  %-4s  %9s  %10s  %12s  %9s  %9s  %9s%s\n", "faces", "nodes", "dev", "step", "iteration",
+                "node-it/s", "B/node-it", "floor", "peak MiB", with_cpu ? "  cpu/gpu" : "");
+    std::fflush(stdout);
+    nlohmann::json rows = nlohmann::json::array();
+    for (index_t faces : options.face_counts) {
+      BenchOptions one = options;
+      one.face_counts = {faces};
+      const PdBenchRow row = run_pd_bench(one, device, bandwidth)[0];
+      rows.push_back(to_json(row));
+      if (with_cpu) {
+        const PdBenchRow cpu = run_pd_bench(one, Device::cpu, cpu_bandwidth)[0];
+        rows.push_back(to_json(cpu));
+        print_pd_row(cpu, nullptr);
+        print_pd_row(row, &cpu);
+      } else {
+        print_pd_row(row, nullptr);
+      }
+      std::fflush(stdout);
+    }
+    doc["copy_bandwidth_bytes_per_s"] = bandwidth;
+    if (with_cpu) doc["cpu_copy_bandwidth_bytes_per_s"] = cpu_bandwidth;
+    doc["pd"] = rows;
   }
+
+  if (wanted(args, "scene")) {
+    std::printf("\nscene: the paper's (tear demo), %d iterations per frame, no output; ms per frame\n",
+                options.iterations);
+    std::printf("%-7s  %8s  %8s  %-4s  %9s  %9s  %10s  %12s%s\n", "size", "faces", "at end", "dev", "mean", "max",
+                "remesh", "simulation", with_cpu ? "  cpu/gpu" : "");
+    std::fflush(stdout);
+    const std::vector<SceneBenchRow> gpu = run_scene_bench(options, device);
+    std::vector<SceneBenchRow> cpu;
+    if (with_cpu) cpu = run_scene_bench(options, Device::cpu);
+    nlohmann::json rows = nlohmann::json::array();
+    for (std::size_t i = 0; i < gpu.size(); ++i) {
+      if (with_cpu) {
+        print_scene_row(cpu[i], nullptr);
+        rows.push_back(to_json(cpu[i]));
+      }
+      print_scene_row(gpu[i], with_cpu ? &cpu[i] : nullptr);
+      rows.push_back(to_json(gpu[i]));
+    }
+    doc["scene"] = rows;
+  }
+
+  if (!args.json_path.empty()) write_file_atomically(args.json_path, doc.dump(2) + "\n");
 }
 }  // namespace
 
 void add_bench_command(CLI::App& app) {
   auto args = std::make_shared<BenchArgs>();
-  CLI::App* cmd = app.add_subcommand("bench", "Benchmark the remesher on generated irregular square sheets");
+  CLI::App* cmd = app.add_subcommand("bench", "Benchmark the remesher and the solver on generated sheets");
   cmd->footer(
-      "Each size is an irregular sheet (the paper's Table 1 sizes, then powers of two up to 4M faces) cut "
-      "once by a zigzag of 16 segments; every run cuts a fresh copy. Times are medians, in milliseconds; "
-      "stage columns come from separate runs with a device synchronisation after each stage. On the GPU "
-      "the CPU backend of the same binary runs too, for the cpu/gpu ratio. No time is asserted.");
+      "Three parts. remesh: each size is an irregular sheet (the paper's Table 1 sizes, then powers of two up "
+      "to 4M faces) cut once by a zigzag of 16 segments, a fresh copy each run; stage columns come from "
+      "separate runs with a device synchronisation after each stage. pd: one solver step of --iterations "
+      "iterations on each size, with the traffic floor at the measured copy bandwidth. scene: the paper's "
+      "scene (tear demo) at its three resolutions with --iterations iterations per frame, in memory. Times "
+      "are medians in milliseconds; on the GPU the CPU backend of the same binary runs too, for the cpu/gpu "
+      "ratio. No time is asserted.");
   add_device_option(*cmd, args->device);
   cmd->add_option("--faces", args->faces, "Sheet sizes in faces, comma separated (even, >= 2)")->delimiter(',');
   cmd->add_option("--repeats", args->repeats, "Timed runs per size and backend (median reported)")->check(CLI::Range(1, 1000));
+  cmd->add_option("--iterations", args->iterations, "Solver iterations per step (pd) and per frame (scene)")
+      ->check(CLI::Range(1, 100000));
+  cmd->add_option("--only", args->only, "Run only these parts: remesh, pd, scene (comma separated)")->delimiter(',');
   cmd->add_option("--json", args->json_path, "Also write every number to this JSON file");
   cmd->add_flag("--no-cpu", args->no_cpu, "On the GPU, skip the CPU-backend comparison");
   cmd->callback([args] { run_bench(*args); });

@@ -1,8 +1,13 @@
 #include "tear/bench.h"
 
 #include <algorithm>
+#include <chrono>
 
+#include "bench_device.h"
+#include "tear/demo_scene.h"
 #include "tear/make_sheet.h"
+#include "tear/run_cuts.h"
+#include "tear/simulation.h"
 
 namespace tear {
 
@@ -36,7 +41,10 @@ std::vector<BenchRow> run_remesh_bench(const BenchOptions& options, Device devic
     row.device_name = device_name(device);
     std::vector<double> totals;
     std::vector<std::vector<double>> stages(static_cast<int>(CutStage::count));
+    std::size_t peak = 0;
     for (int run = 0; run < options.warmup + 2 * options.repeats; ++run) {
+      reset_device_memory_peak();
+      const std::size_t before = device_memory_in_use();
       Cloth cloth(mesh, device);  // a fresh cloth each time: cutting a torn cloth again is a no-op
       CutOptions cut_options;
       const bool timed = run >= options.warmup, staged = timed && (run - options.warmup) % 2 == 1;
@@ -44,6 +52,7 @@ std::vector<BenchRow> run_remesh_bench(const BenchOptions& options, Device devic
       const CutStats stats = cloth.cut(cut, cut_options);
       row.nodes_after = stats.nodes_after;
       row.faces_after = stats.faces_after;
+      if (device == Device::cuda) peak = std::max(peak, device_memory_peak() - before);
       if (!timed) continue;
       if (staged)
         for (std::size_t s = 0; s < stages.size(); ++s) stages[s].push_back(stats.stage_ms[s]);
@@ -53,9 +62,125 @@ std::vector<BenchRow> run_remesh_bench(const BenchOptions& options, Device devic
     row.remesh_ms = median(totals);
     for (std::size_t s = 0; s < stages.size(); ++s) row.stage_ms[s] = median(stages[s]);
     row.faces_per_s = row.remesh_ms > 0 ? faces / (row.remesh_ms * 1e-3) : 0;
+    row.peak_device_bytes = peak;
     rows.push_back(row);
   }
   return rows;
+}
+
+double measure_copy_bandwidth(Device device) {
+  const std::size_t bytes = std::size_t(256) << 20;
+  const double seconds = backend::dispatch(
+      device, [&](auto system) { return backend::fastest_copy_seconds<decltype(system)>(bytes, 10); });
+  return seconds > 0 ? 2.0 * double(bytes) / seconds : 0.0;
+}
+
+std::vector<PdBenchRow> run_pd_bench(const BenchOptions& options, Device device, double copy_bandwidth) {
+  using Clock = std::chrono::steady_clock;
+  std::vector<PdBenchRow> rows;
+  for (index_t faces : options.face_counts) {
+    SheetOptions sheet;
+    sheet.face_count = faces;
+    const Mesh mesh = make_sheet(sheet);
+    SimulationOptions sim;
+    sim.substeps = 1;
+    sim.iterations = options.iterations;
+    Pin top;
+    top.min = {-1, 1 - 1e-6, -1};
+    top.max = {2, 1 + 1e-6, 1};
+    sim.pins = {top};
+    reset_device_memory_peak();
+    const std::size_t before = device_memory_in_use();
+    PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), sim, device);
+    std::vector<double> times;
+    for (int run = 0; run < options.warmup + options.repeats; ++run) {
+      synchronize(device);
+      const Clock::time_point start = Clock::now();
+      solver.step();
+      synchronize(device);
+      if (run >= options.warmup) times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+    }
+    PdBenchRow row;
+    row.faces = faces;
+    row.nodes = mesh.node_count();
+    row.constraints = solver.constraint_count();
+    row.device = device;
+    row.device_name = device_name(device);
+    row.iterations = sim.iterations;
+    row.step_ms = median(times);
+    row.iteration_ms = row.step_ms / sim.iterations;
+    row.node_iterations_per_s = row.step_ms > 0 ? double(row.nodes) * sim.iterations / (row.step_ms * 1e-3) : 0;
+    row.bytes_per_iteration = solver.bytes_per_iteration();
+    row.floor_ms = copy_bandwidth > 0 ? 1e3 * double(row.bytes_per_iteration) * sim.iterations / copy_bandwidth : 0;
+    if (device == Device::cuda) row.peak_device_bytes = device_memory_peak() - before;
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+std::vector<SceneBenchRow> run_scene_bench(const BenchOptions& options, Device device) {
+  using Clock = std::chrono::steady_clock;
+  std::vector<SceneBenchRow> rows;
+  for (DemoResolution resolution : {DemoResolution::low, DemoResolution::medium, DemoResolution::high}) {
+    CutScript script = demo_script();
+    script.simulation["substeps"] = 1;
+    script.simulation["iterations"] = options.iterations;
+    const Mesh mesh = make_demo_sheet(resolution);
+    std::vector<SceneBenchRow> runs;
+    for (int run = 0; run < options.warmup + options.repeats; ++run) {
+      SceneBenchRow row;
+      row.resolution = to_string(resolution);
+      row.faces_start = mesh.face_count();
+      row.device = device;
+      row.device_name = device_name(device);
+      row.iterations = options.iterations;
+      Cloth cloth(mesh, device);
+      synchronize(device);
+      Clock::time_point last = Clock::now();
+      double total = 0;
+      run_cuts(cloth, script, script.frames, [&](const FrameResult& frame, const Cloth& c) {
+        const Clock::time_point now = Clock::now();  // run_cuts waited for the frame's step
+        const double ms = std::chrono::duration<double, std::milli>(now - last).count();
+        last = now;
+        total += ms;
+        row.frame_ms_max = std::max(row.frame_ms_max, ms);
+        row.remesh_ms += frame.remesh_ms;
+        row.simulation_ms += frame.simulation_ms;
+        row.frames = frame.frame;
+        row.faces_end = c.face_count();
+      });
+      row.frame_ms_mean = row.frames > 0 ? total / row.frames : 0;
+      if (run >= options.warmup) runs.push_back(row);
+    }
+    std::sort(runs.begin(), runs.end(),
+              [](const SceneBenchRow& a, const SceneBenchRow& b) { return a.frame_ms_mean < b.frame_ms_mean; });
+    rows.push_back(runs[runs.size() / 2]);
+  }
+  return rows;
+}
+
+nlohmann::json to_json(const PdBenchRow& row) {
+  return {{"faces", row.faces},
+          {"nodes", row.nodes},
+          {"constraints", row.constraints},
+          {"device", to_string(row.device)},
+          {"device_name", row.device_name},
+          {"iterations", row.iterations},
+          {"step_ms", row.step_ms},
+          {"iteration_ms", row.iteration_ms},
+          {"node_iterations_per_s", row.node_iterations_per_s},
+          {"bytes_per_iteration", row.bytes_per_iteration},
+          {"floor_ms", row.floor_ms},
+          {"peak_device_bytes", row.peak_device_bytes}};
+}
+
+nlohmann::json to_json(const SceneBenchRow& row) {
+  return {{"resolution", row.resolution},       {"faces_start", row.faces_start},
+          {"faces_end", row.faces_end},         {"device", to_string(row.device)},
+          {"device_name", row.device_name},     {"frames", row.frames},
+          {"iterations", row.iterations},       {"frame_ms_mean", row.frame_ms_mean},
+          {"frame_ms_max", row.frame_ms_max},   {"remesh_ms", row.remesh_ms},
+          {"simulation_ms", row.simulation_ms}};
 }
 
 nlohmann::json to_json(const BenchRow& row) {
@@ -63,7 +188,8 @@ nlohmann::json to_json(const BenchRow& row) {
   for (int s = 0; s < static_cast<int>(CutStage::count); ++s) stages[to_string(static_cast<CutStage>(s))] = row.stage_ms[s];
   return {{"faces", row.faces},           {"device", to_string(row.device)}, {"device_name", row.device_name},
           {"remesh_ms", row.remesh_ms},   {"stage_ms", stages},              {"faces_per_s", row.faces_per_s},
-          {"nodes_after", row.nodes_after}, {"faces_after", row.faces_after}};
+          {"nodes_after", row.nodes_after}, {"faces_after", row.faces_after},
+          {"peak_device_bytes", row.peak_device_bytes}};
 }
 
 }  // namespace tear

@@ -23,6 +23,9 @@ class Cloth::Engine {
   virtual CutProvenance provenance() const = 0;
   /// Sizes already checked by `Cloth::set_node_state`.
   virtual void set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) = 0;
+  /// The state in the backend's own memory, [node_count * 3] each; valid until the next cut.
+  virtual float* device_node_pos() = 0;
+  virtual float* device_node_vel() = 0;
 };
 
 namespace backend {

@@ -89,6 +89,8 @@ class ClothEngine final : public Cloth::Engine {
     p.face_parent = to_host<index_t>(face_parent_);
     return p;
   }
+  float* device_node_pos() override { return raw<float>(node_pos_); }
+  float* device_node_vel() override { return raw<float>(node_vel_); }
   void set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) override {
     node_pos_.assign(node_pos.begin(), node_pos.end());
     node_vel_.assign(node_vel.begin(), node_vel.end());

@@ -2,7 +2,10 @@
 
 #include <omp.h>
 
+#include <atomic>
 #include <string>
+
+#include "device_memory.h"
 
 #include "tear/error.h"
 
@@ -52,6 +55,31 @@ Device select_device(const std::string& spec) {
     return Device::cuda;
   }
   throw Error(ErrorKind::usage, "--device " + spec + ": expected auto, cpu, cuda or cuda:N");
+}
+
+namespace {
+std::atomic<std::size_t> device_bytes{0}, device_bytes_peak{0};
+}  // namespace
+
+namespace backend {
+void count_device_allocation(std::size_t bytes) {
+  const std::size_t now = device_bytes.fetch_add(bytes) + bytes;
+  std::size_t peak = device_bytes_peak.load();
+  while (now > peak && !device_bytes_peak.compare_exchange_weak(peak, now)) {
+  }
+}
+void count_device_release(std::size_t bytes) { device_bytes.fetch_sub(bytes); }
+}  // namespace backend
+
+std::size_t device_memory_in_use() { return device_bytes.load(); }
+std::size_t device_memory_peak() { return device_bytes_peak.load(); }
+void reset_device_memory_peak() { device_bytes_peak.store(device_bytes.load()); }
+
+void synchronize(Device device) {
+#if TEAR_WITH_CUDA
+  if (device == Device::cuda) cudaDeviceSynchronize();
+#endif
+  (void)device;
 }
 
 const char* to_string(Device device) { return device == Device::cuda ? "cuda" : "cpu"; }

@@ -16,6 +16,7 @@
 #include "pd_model.h"
 #include "pd_solver.h"
 #include "pd_step.h"
+#include "replay_graph.h"
 
 namespace tear::backend {
 
@@ -53,9 +54,31 @@ class PdSolverOn final : public PdSolver::Impl {
   Device device() const override { return std::is_same<System, Omp>::value ? Device::cpu : Device::cuda; }
   index_t node_count() const override { return node_count_; }
   index_t constraint_count() const override { return active_constraint_count_; }
+  std::size_t bytes_per_iteration() const override {
+    const std::size_t c = static_cast<std::size_t>(constraint_count_), n = static_cast<std::size_t>(node_count_),
+                      s = node_slots_.size();
+    // Local step: a constraint's nodes, coefficients, weight and rest value read, its force
+    // written; each iterate read once. Global step: a node's CSR offset, mass, diagonal, pin,
+    // prediction and two iterates read and the next written; a slot's constraint and coefficient
+    // read; each force read once.
+    const std::size_t local = c * (4 * sizeof(index_t) + 4 * sizeof(float) + 2 * sizeof(float) + 3 * sizeof(float)) +
+                              n * 3 * sizeof(float);
+    const std::size_t global = n * (sizeof(index_t) + 2 * sizeof(float) + 1 + 4 * 3 * sizeof(float)) +
+                               s * (sizeof(index_t) + sizeof(float)) + c * 3 * sizeof(float);
+    return local + global;
+  }
   const SimulationOptions& options() const override { return options_; }
 
   void step() override;
+  void step_state(float* node_pos, float* node_vel) override {
+    const auto policy = Traits<System>::policy();
+    const std::size_t n = 3 * static_cast<std::size_t>(node_count_);
+    thrust::copy(policy, node_pos, node_pos + n, node_pos_.begin());
+    thrust::copy(policy, node_vel, node_vel + n, node_vel_.begin());
+    step();
+    thrust::copy(policy, node_pos_.begin(), node_pos_.end(), node_pos);
+    thrust::copy(policy, node_vel_.begin(), node_vel_.end(), node_vel);
+  }
 
   void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) override {
     thrust::copy(node_pos.begin(), node_pos.end(), node_pos_.begin());
@@ -70,6 +93,8 @@ class PdSolverOn final : public PdSolver::Impl {
 
  private:
   void build_model(const std::vector<index_t>& face_nodes_host, const std::vector<float>& node_rest_host);
+  template <class Policy>
+  void enqueue_substep(const Policy& policy);
 
   SimulationOptions options_;
   index_t node_count_ = 0;
@@ -86,6 +111,7 @@ class PdSolverOn final : public PdSolver::Impl {
   // Scratch of a step.
   vec<float> node_pred_, constraint_force_;
   vec<float> node_iter_[3];
+  ReplayGraph<System> step_graph_;  // the launches of one substep, recorded on the first step
 };
 
 template <class System>
@@ -145,8 +171,14 @@ void PdSolverOn<System>::build_model(const std::vector<index_t>& face_nodes_host
 
 template <class System>
 void PdSolverOn<System>::step() {
+  // One substep is always the same launches with the same arguments: replayed as one graph.
+  step_graph_.run([this](const auto& policy) { enqueue_substep(policy); }, options_.substeps);
+}
+
+template <class System>
+template <class Policy>
+void PdSolverOn<System>::enqueue_substep(const Policy& policy) {
   using namespace kernels;
-  const auto policy = Traits<System>::policy();
   const thrust::counting_iterator<index_t> zero(0);
   const double h = options_.step_seconds();
   const float inv_h2 = static_cast<float>(1.0 / (h * h));
@@ -156,41 +188,38 @@ void PdSolverOn<System>::step() {
   const auto& cheb = options_.chebyshev;
   const float gamma = static_cast<float>(cheb.gamma);
 
-  for (int substep = 0; substep < options_.substeps; ++substep) {
-    // Inertial prediction (Bouaziz et al. 2014, eq. 9): the first iterate.
-    thrust::for_each(policy, zero, zero + node_count_,
-                     predict_positions{raw<float>(node_pos_), raw<float>(node_vel_), raw<std::uint8_t>(node_pinned_),
-                                       static_cast<float>(h), gravity, raw<float>(node_pred_),
-                                       raw<float>(node_iter_[0]), raw<float>(node_iter_[1])});
-    int cur = 0, prev = 1, next = 2;
-    double omega = 1.0;
-    for (int k = 0; k < options_.iterations; ++k) {
-      omega = chebyshev_omega(k, cheb.delay, cheb.rho, omega);
-      // Local step: every constraint's projection at the current iterate (§4.1).
-      thrust::for_each(policy, zero, zero + constraint_count_,
-                       project_constraints{raw<index_t>(constraint_nodes_), raw<float>(constraint_coef_),
-                                           raw<float>(constraint_weight_), raw<float>(constraint_rest_),
-                                           raw<float>(node_iter_[cur]), raw<float>(constraint_force_)});
-      // Global step: one Chebyshev-weighted Jacobi update per node (Wang 2015, §4).
-      thrust::for_each(
-          policy, zero, zero + node_count_,
-          jacobi_chebyshev_update{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_),
-                                  raw<float>(constraint_coef_), raw<float>(constraint_force_), raw<float>(node_mass_),
-                                  raw<float>(node_diag_), raw<std::uint8_t>(node_pinned_), raw<float>(node_pred_),
-                                  raw<float>(node_iter_[cur]), raw<float>(node_iter_[prev]), inv_h2,
-                                  static_cast<float>(omega), gamma, raw<float>(node_iter_[next])});
-      const int old_prev = prev;
-      prev = cur;
-      cur = next;
-      next = old_prev;
-    }
-    // Velocity update, damping and colliders.
+  // Inertial prediction (Bouaziz et al. 2014, eq. 9): the first iterate.
+  thrust::for_each(policy, zero, zero + node_count_,
+                   predict_positions{raw<float>(node_pos_), raw<float>(node_vel_), raw<std::uint8_t>(node_pinned_),
+                                     static_cast<float>(h), gravity, raw<float>(node_pred_), raw<float>(node_iter_[0]),
+                                     raw<float>(node_iter_[1])});
+  int cur = 0, prev = 1, next = 2;
+  double omega = 1.0;
+  for (int k = 0; k < options_.iterations; ++k) {
+    omega = chebyshev_omega(k, cheb.delay, cheb.rho, omega);
+    // Local step: every constraint's projection at the current iterate (§4.1).
+    thrust::for_each(policy, zero, zero + constraint_count_,
+                     project_constraints{raw<index_t>(constraint_nodes_), raw<float>(constraint_coef_),
+                                         raw<float>(constraint_weight_), raw<float>(constraint_rest_),
+                                         raw<float>(node_iter_[cur]), raw<float>(constraint_force_)});
+    // Global step: one Chebyshev-weighted Jacobi update per node (Wang 2015, §4).
     thrust::for_each(
         policy, zero, zero + node_count_,
-        finish_step{raw<std::uint8_t>(node_pinned_), raw<float>(node_iter_[cur]), static_cast<float>(1.0 / h),
-                    velocity_scale, raw<PdCollider>(colliders_), static_cast<index_t>(colliders_.size()),
-                    raw<float>(node_pos_), raw<float>(node_vel_)});
+        jacobi_chebyshev_update{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_),
+                                raw<float>(constraint_coef_), raw<float>(constraint_force_), raw<float>(node_mass_),
+                                raw<float>(node_diag_), raw<std::uint8_t>(node_pinned_), raw<float>(node_pred_),
+                                raw<float>(node_iter_[cur]), raw<float>(node_iter_[prev]), inv_h2,
+                                static_cast<float>(omega), gamma, raw<float>(node_iter_[next])});
+    const int old_prev = prev;
+    prev = cur;
+    cur = next;
+    next = old_prev;
   }
+  // Velocity update, damping and colliders.
+  thrust::for_each(policy, zero, zero + node_count_,
+                   finish_step{raw<std::uint8_t>(node_pinned_), raw<float>(node_iter_[cur]), static_cast<float>(1.0 / h),
+                               velocity_scale, raw<PdCollider>(colliders_), static_cast<index_t>(colliders_.size()),
+                               raw<float>(node_pos_), raw<float>(node_vel_)});
 }
 
 template <class System>

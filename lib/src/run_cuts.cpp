@@ -65,9 +65,7 @@ class FrameSimulation {
   /// Rebuilds the solver when the cloth's mesh is not the one it was built for, then steps a frame.
   void step(Cloth& cloth, bool mesh_changed) {
     if (!solver_ || mesh_changed) rebuild(cloth);
-    std::vector<float> node_pos = cloth.node_pos(), node_vel = cloth.node_vel();
-    solver_->step(node_pos, node_vel);
-    cloth.set_node_state(node_pos, node_vel);
+    solver_->step(cloth);
   }
 
  private:
@@ -213,6 +211,7 @@ void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const Fram
       const bool mesh_changed = result.stats.nodes_after != result.stats.nodes_before ||
                                 result.stats.faces_after != result.stats.faces_before;
       simulation->step(cloth, mesh_changed);
+      synchronize(cloth.device());  // the step only queues work: wait for it, for the time
       result.simulated = true;
       result.simulation_ms = ms_since(start);
     }

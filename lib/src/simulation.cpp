@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "cloth_engine.h"
 #include "json_reader.h"
 #include "pd_solver.h"
 #include "systems.h"
@@ -208,6 +209,7 @@ PdSolver& PdSolver::operator=(PdSolver&&) noexcept = default;
 Device PdSolver::device() const { return impl_->device(); }
 index_t PdSolver::node_count() const { return impl_->node_count(); }
 index_t PdSolver::constraint_count() const { return impl_->constraint_count(); }
+std::size_t PdSolver::bytes_per_iteration() const { return impl_->bytes_per_iteration(); }
 const SimulationOptions& PdSolver::options() const { return impl_->options(); }
 
 void PdSolver::step() { impl_->step(); }
@@ -217,6 +219,14 @@ void PdSolver::step(std::vector<float>& node_pos, std::vector<float>& node_vel) 
   impl_->step();
   node_pos = impl_->node_pos();
   node_vel = impl_->node_vel();
+}
+
+void PdSolver::step(Cloth& cloth) {
+  if (cloth.device() != impl_->device() || cloth.node_count() != impl_->node_count())
+    throw runtime_error("PdSolver::step: the cloth has " + std::to_string(cloth.node_count()) + " nodes on " +
+                        to_string(cloth.device()) + ", the solver " + std::to_string(impl_->node_count()) + " on " +
+                        to_string(impl_->device()));
+  impl_->step_state(cloth.engine_->device_node_pos(), cloth.engine_->device_node_vel());
 }
 
 void PdSolver::set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) {

@@ -22,8 +22,8 @@ class TemporaryAllocator {
   TemporaryAllocator(const TemporaryAllocator&) = delete;
   TemporaryAllocator& operator=(const TemporaryAllocator&) = delete;
   ~TemporaryAllocator() {
-    for (auto& [size, p] : free_) Traits<System>::free_bytes(p);
-    for (auto& [p, size] : used_) Traits<System>::free_bytes(p);
+    for (auto& [size, p] : free_) Traits<System>::free_bytes(p, size);
+    for (auto& [p, size] : used_) Traits<System>::free_bytes(p, size);
   }
 
   char* allocate(std::ptrdiff_t bytes) {

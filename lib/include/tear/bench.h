@@ -1,4 +1,5 @@
-// tear: the built-in benchmark of `tear bench`: remesh time per cut on generated sheets.
+// tear: the built-in benchmark of `tear bench`: remesh time per cut and solver time per iteration
+// on generated sheets, and the paper's scene frame by frame.
 #pragma once
 
 #include <array>
@@ -19,6 +20,7 @@ struct BenchOptions {
   int repeats = 7;    ///< timed runs per size and backend; the median is reported
   int warmup = 2;     ///< untimed runs first
   int segments = 16;  ///< segments of the cut's polyline (a zigzag across the sheet)
+  int iterations = 100;  ///< solver iterations per step (`run_pd_bench`) and per frame (`run_scene_bench`)
 };
 
 /// One size on one backend. Times are medians over the repeats, milliseconds.
@@ -30,7 +32,44 @@ struct BenchRow {
   std::array<double, static_cast<int>(CutStage::count)> stage_ms{};  ///< with a sync after each stage
   double faces_per_s = 0;  ///< faces of the input sheet over remesh_ms
   index_t nodes_after = 0, faces_after = 0;
+  /// Most GPU memory held during a cut, the cloth's arrays and scratch included (0 on the CPU).
+  std::size_t peak_device_bytes = 0;
 };
+
+/// The solver on one size and backend: one step of `iterations` iterations (one substep) of a sheet
+/// pinned along its top edge, default material. Times are medians, milliseconds.
+struct PdBenchRow {
+  index_t faces = 0, nodes = 0, constraints = 0;
+  Device device = Device::cpu;
+  std::string device_name;
+  int iterations = 0;
+  double step_ms = 0;                 ///< one step: prediction, the iterations, velocities
+  double iteration_ms = 0;            ///< step_ms / iterations
+  double node_iterations_per_s = 0;   ///< nodes × iterations / step time
+  std::size_t bytes_per_iteration = 0;  ///< `PdSolver::bytes_per_iteration`
+  double floor_ms = 0;                ///< iterations × bytes_per_iteration at the measured copy bandwidth
+  std::size_t peak_device_bytes = 0;  ///< most GPU memory held while building and stepping (0 on the CPU)
+};
+
+/// The paper's scene (`demo_script` at one resolution) run in memory with `iterations` solver
+/// iterations per frame in one substep, as the paper's measurements do: remesh, solver rebuild
+/// after cuts and simulation, no output. Wall times in milliseconds; the median run of the repeats.
+struct SceneBenchRow {
+  std::string resolution;
+  index_t faces_start = 0, faces_end = 0;
+  Device device = Device::cpu;
+  std::string device_name;
+  int frames = 0, iterations = 0;
+  double frame_ms_mean = 0, frame_ms_max = 0;  ///< per frame, cut frames included
+  double remesh_ms = 0, simulation_ms = 0;     ///< totals over the frames
+};
+
+/// Copy bandwidth of `device`'s memory: bytes read plus bytes written per second by a copy of a
+/// 256 MiB buffer (larger than any cache), the best of 10.
+double measure_copy_bandwidth(Device device);
+
+std::vector<PdBenchRow> run_pd_bench(const BenchOptions& options, Device device, double copy_bandwidth);
+std::vector<SceneBenchRow> run_scene_bench(const BenchOptions& options, Device device);
 
 /// The zigzag cut of the benchmark: `segments` segments across the unit sheet, in rest-xy.
 CutLine bench_cut(int segments);
@@ -40,5 +79,7 @@ CutLine bench_cut(int segments);
 std::vector<BenchRow> run_remesh_bench(const BenchOptions& options, Device device);
 
 nlohmann::json to_json(const BenchRow& row);
+nlohmann::json to_json(const PdBenchRow& row);
+nlohmann::json to_json(const SceneBenchRow& row);
 
 }  // namespace tear

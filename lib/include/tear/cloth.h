@@ -102,6 +102,7 @@ class Cloth {
   class Engine;  ///< the per-backend implementation
 
  private:
+  friend class PdSolver;  // steps the cloth's state where it lives (PdSolver::step(Cloth&))
   std::unique_ptr<Engine> engine_;
 };
 

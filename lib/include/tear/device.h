@@ -1,6 +1,7 @@
 // tear: choosing the backend that runs the kernels.
 #pragma once
 
+#include <cstddef>
 #include <string>
 
 namespace tear {
@@ -25,5 +26,15 @@ const char* to_string(Device device);
 
 /// A human-readable name of the hardware: the GPU's name, or "CPU (N threads)".
 std::string device_name(Device device);
+
+/// Waits until the work queued on `device` is done (the CUDA backend queues without waiting).
+void synchronize(Device device);
+
+/// GPU memory held by tear (arrays and cached scratch buffers) now, and the most held since the
+/// last `reset_device_memory_peak`, in bytes. Memory on the CPU backend is not counted (0).
+std::size_t device_memory_in_use();
+std::size_t device_memory_peak();
+/// Starts a new peak from the memory in use now.
+void reset_device_memory_peak();
 
 }  // namespace tear

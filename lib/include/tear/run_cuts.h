@@ -30,7 +30,7 @@ struct FrameResult {
   std::string path;   ///< the file written, by `run_to_files`; empty in `run_cuts`
   bool simulated = false;    ///< the script has a `simulation` block: the frame was stepped after its cuts
   double remesh_ms = 0;      ///< wall time of the frame's cuts (0 without cuts)
-  double simulation_ms = 0;  ///< wall time of the frame's step, solver rebuild and host round trip included
+  double simulation_ms = 0;  ///< wall time of the frame's step, solver rebuild (after a cut) included
 };
 
 /// Called after each frame, with the cloth as the frame left it.

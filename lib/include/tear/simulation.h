@@ -15,6 +15,8 @@
 
 namespace tear {
 
+class Cloth;
+
 /// Nodes held still: either every node whose rest position lies in a box, or listed nodes.
 struct Pin {
   enum class Kind { box, nodes };
@@ -107,6 +109,10 @@ class PdSolver {
   index_t node_count() const;
   /// Constraints with a non-zero weight (edge springs and hinges).
   index_t constraint_count() const;
+  /// The least memory traffic of one iteration, bytes: every array the iteration reads or writes
+  /// touched once (gathered neighbours served by the cache). Over the device's copy bandwidth it is
+  /// the time an iteration cannot beat (`tear bench`).
+  std::size_t bytes_per_iteration() const;
   const SimulationOptions& options() const;
 
   /// Advances the held state by one frame (1 / fps seconds, `substeps` steps). Queues device work
@@ -114,6 +120,11 @@ class PdSolver {
   void step();
   /// Uploads `node_pos` and `node_vel` [node_count * 3], steps one frame and downloads them.
   void step(std::vector<float>& node_pos, std::vector<float>& node_vel);
+  /// Steps the state of `cloth` one frame where it lives: copied from the cloth into the solver and
+  /// back within the backend's memory, with no host round trip and no wait. The cloth must be on the
+  /// solver's backend and have its node count (the mesh the solver was built from); the solver's own
+  /// state is overwritten.
+  void step(Cloth& cloth);
 
   /// Replaces the state; both [node_count * 3]. Pinned nodes are held where `node_pos` puts them.
   void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel);

@@ -1,0 +1,17 @@
+#!/usr/bin/env bash
+# Runs `tear bench` on a machine with a GPU, after scripts/gpu-suite.sh built BUILD_DIR: every part
+# on the default sizes with the CPU backend alongside, then the solver and the scene again with
+# CUDA graphs off (TEAR_CUDA_GRAPHS=0), for the ratio. Output and JSON go to LOG_DIR.
+#   scripts/gpu-bench.sh [LOG_DIR] [BUILD_DIR] [extra tear bench options...]
+set -uo pipefail
+log_dir=${1:-gpu-logs}
+build_dir=${2:-build-gpu}
+shift 2 || true
+mkdir -p "$log_dir"
+tear="$build_dir/tear"
+nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm,clocks.max.mem --format=csv > "$log_dir/machine.txt" 2>&1
+git rev-parse --short HEAD >> "$log_dir/machine.txt" 2>/dev/null
+date -u >> "$log_dir/machine.txt"
+"$tear" bench --repeats 5 --json "$log_dir/bench.json" "$@" 2>&1 | tee "$log_dir/bench.txt"
+TEAR_CUDA_GRAPHS=0 "$tear" bench --repeats 5 --only pd,scene --no-cpu --json "$log_dir/bench-no-graphs.json" "$@" 2>&1 |
+  tee "$log_dir/bench-no-graphs.txt"
