@@ -35,6 +35,17 @@
 namespace tear::kernels {
 /// True for a finite float, on host and device alike (x - x is NaN for NaN and infinities).
 TEAR_HD inline bool is_finite(float x) { return x - x == 0.0f; }
+
+/// Adds `v` to `*p` atomically and returns the old value. Integer only: the sums it makes are exact
+/// whatever the order, so results stay deterministic (positions it hands out are put in order
+/// afterwards by whoever uses them).
+TEAR_HD inline int atomic_fetch_add(int* p, int v) {
+#if defined(__CUDA_ARCH__)
+  return atomicAdd(p, v);
+#else
+  return __atomic_fetch_add(p, v, __ATOMIC_RELAXED);
+#endif
+}
 }  // namespace tear::kernels
 
 namespace tear::backend {

@@ -1,4 +1,11 @@
-// tear kernels: building edges, edge→faces, face→edges, node→faces and boundary flags.
+// tear kernels: building edges, edge→faces, face→edges, node→faces and boundary flags by counting
+// and scanning, without sorting.
+//
+// Node→faces is a counting sort of the corners by node (an integer histogram, an exclusive scan,
+// a fill through per-node cursors), each node's short run then put in face order. An edge belongs
+// to its lower node: each node enumerates the distinct higher ends of its faces' half-edges in
+// ascending order, so numbering the edges through a scan of the per-node counts gives them in
+// (low, high) order, the order a sort of the edge keys would.
 #pragma once
 
 #include <cstdint>
@@ -9,83 +16,136 @@ namespace tear::kernels {
 
 using index_t = std::int32_t;
 
-/// The key of the undirected edge (a, b): low node in the high 32 bits, so keys sort by
-/// (low, high).
-TEAR_HD inline std::uint64_t edge_key(index_t a, index_t b) {
-  const index_t lo = a < b ? a : b, hi = a < b ? b : a;
-  return (static_cast<std::uint64_t>(static_cast<std::uint32_t>(lo)) << 32) | static_cast<std::uint32_t>(hi);
-}
-TEAR_HD inline index_t edge_key_low(std::uint64_t key) { return static_cast<index_t>(key >> 32); }
-TEAR_HD inline index_t edge_key_high(std::uint64_t key) { return static_cast<index_t>(key & 0xffffffffu); }
-
 /// Half-edge h = 3 * face + k is local edge k of the face: it joins local nodes k+1 and k+2.
-struct make_half_edge_keys {
+TEAR_HD inline void half_edge_nodes(const index_t* face_nodes, index_t f, int k, index_t& lo, index_t& hi) {
+  const index_t p = face_nodes[3 * f + (k + 1) % 3], q = face_nodes[3 * f + (k + 2) % 3];
+  lo = p < q ? p : q;
+  hi = p < q ? q : p;
+}
+
+/// Histogram of corners by node (`node_count_of` zeroed first).
+struct count_node_corners {
   const index_t* face_nodes;
-  std::uint64_t* half_key;
-  index_t* half_id;
-  TEAR_HD void operator()(index_t h) const {
-    const index_t f = h / 3, k = h % 3;
-    half_key[h] = edge_key(face_nodes[3 * f + (k + 1) % 3], face_nodes[3 * f + (k + 2) % 3]);
-    half_id[h] = h;
+  index_t* node_count_of;
+  TEAR_HD void operator()(index_t c) const { atomic_fetch_add(&node_count_of[face_nodes[c]], 1); }
+};
+
+/// Puts each corner's face in its node's run, at a place taken from the node's cursor (its run's
+/// start, copied from the offsets). The order within a run depends on timing; `sort_runs` fixes it.
+struct fill_node_faces {
+  const index_t* face_nodes;
+  index_t* node_cursor;
+  index_t* node_faces;
+  TEAR_HD void operator()(index_t c) const {
+    const index_t at = atomic_fetch_add(&node_cursor[face_nodes[c]], 1);
+    node_faces[at] = c / 3;
   }
 };
 
-/// 1 where a sorted key starts a new edge.
-struct flag_edge_heads {
-  const std::uint64_t* sorted_key;
-  index_t* head;
-  TEAR_HD void operator()(index_t i) const { head[i] = (i == 0 || sorted_key[i] != sorted_key[i - 1]) ? 1 : 0; }
-};
-
-/// For each sorted half-edge: its edge is (inclusive scan of heads) - 1. Scatters face_edges and,
-/// at each edge's first half-edge, the edge's nodes.
-struct write_face_edges {
-  const std::uint64_t* sorted_key;
-  const index_t* sorted_half;
-  const index_t* head;
-  const index_t* edge_of_sorted;  // inclusive scan of head
-  index_t* face_edges;
-  index_t* edge_nodes;
-  index_t* edge_first_half;  // index into the sorted arrays of the edge's first half-edge
-  TEAR_HD void operator()(index_t i) const {
-    const index_t e = edge_of_sorted[i] - 1;
-    face_edges[sorted_half[i]] = e;
-    if (head[i]) {
-      edge_nodes[2 * e] = edge_key_low(sorted_key[i]);
-      edge_nodes[2 * e + 1] = edge_key_high(sorted_key[i]);
-      edge_first_half[e] = i;
+/// Sorts run n of a CSR ascending (insertion sort: runs are a node's valence long). For node→faces,
+/// a face that repeats the node appears once per corner, adjacent after the sort.
+struct sort_runs {
+  const index_t* offset;
+  index_t* values;
+  TEAR_HD void operator()(index_t n) const {
+    const index_t begin = offset[n], end = offset[n + 1];
+    for (index_t i = begin + 1; i < end; ++i) {
+      const index_t v = values[i];
+      index_t j = i;
+      for (; j > begin && values[j - 1] > v; --j) values[j] = values[j - 1];
+      values[j] = v;
     }
   }
 };
 
-/// Edge→faces from the sorted half-edges (faces ascending, since the sort is stable).
-struct write_edge_faces {
-  const index_t* edge_first_half;
-  const index_t* sorted_half;
-  index_t half_count;
-  index_t edge_count;
-  index_t* edge_faces;
-  index_t* edge_face_count;
-  std::uint8_t* edge_boundary;
-  TEAR_HD void operator()(index_t e) const {
-    const index_t begin = edge_first_half[e];
-    const index_t end = e + 1 < edge_count ? edge_first_half[e + 1] : half_count;
-    const index_t count = end - begin;
-    edge_face_count[e] = count;
-    edge_faces[2 * e] = sorted_half[begin] / 3;
-    edge_faces[2 * e + 1] = count >= 2 ? sorted_half[begin + 1] / 3 : -1;
-    edge_boundary[e] = count == 1 ? 1 : 0;
+/// The smallest higher end greater than `after` of the half-edges, in node n's faces, whose lower
+/// end is n; -1 when there is none.
+TEAR_HD inline index_t next_edge_end(const index_t* face_nodes, const index_t* node_face_offset,
+                                     const index_t* node_faces, index_t n, index_t after) {
+  index_t best = -1;
+  for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) {
+    const index_t f = node_faces[i];
+    for (int k = 0; k < 3; ++k) {
+      index_t lo, hi;
+      half_edge_nodes(face_nodes, f, k, lo, hi);
+      if (lo == n && hi > after && (best < 0 || hi < best)) best = hi;
+    }
+  }
+  return best;
+}
+
+/// Number of edges whose lower node is n: the distinct higher ends of its half-edges.
+struct count_node_edges {
+  const index_t* face_nodes;
+  const index_t* node_face_offset;
+  const index_t* node_faces;
+  index_t* node_edge_count;
+  TEAR_HD void operator()(index_t n) const {
+    index_t count = 0;
+    for (index_t end = next_edge_end(face_nodes, node_face_offset, node_faces, n, -1); end >= 0;
+         end = next_edge_end(face_nodes, node_face_offset, node_faces, n, end))
+      ++count;
+    node_edge_count[n] = count;
   }
 };
 
-/// Corner c = 3 * face + k: key its node, value its face.
-struct make_corner_keys {
+/// Writes the edges of lower node n from edge node_edge_offset[n] on, higher ends ascending: their
+/// nodes, their faces (the faces of n holding the half-edge, ascending; the first two kept, all
+/// counted) and boundary flags (one face).
+struct write_node_edges {
   const index_t* face_nodes;
-  index_t* corner_node;
-  index_t* corner_face;
-  TEAR_HD void operator()(index_t c) const {
-    corner_node[c] = face_nodes[c];
-    corner_face[c] = c / 3;
+  const index_t* node_face_offset;
+  const index_t* node_faces;
+  const index_t* node_edge_offset;
+  index_t* edge_nodes;
+  index_t* edge_faces;
+  index_t* edge_face_count;
+  std::uint8_t* edge_boundary;
+  TEAR_HD void operator()(index_t n) const {
+    index_t e = node_edge_offset[n];
+    for (index_t end = next_edge_end(face_nodes, node_face_offset, node_faces, n, -1); end >= 0;
+         end = next_edge_end(face_nodes, node_face_offset, node_faces, n, end), ++e) {
+      edge_nodes[2 * e] = n;
+      edge_nodes[2 * e + 1] = end;
+      index_t count = 0, faces[2] = {-1, -1};
+      for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) {
+        const index_t f = node_faces[i];
+        if (i > node_face_offset[n] && node_faces[i - 1] == f) continue;  // a face repeating n, seen
+        for (int k = 0; k < 3; ++k) {
+          index_t lo, hi;
+          half_edge_nodes(face_nodes, f, k, lo, hi);
+          if (lo != n || hi != end) continue;
+          if (count < 2) faces[count] = f;
+          ++count;
+        }
+      }
+      edge_face_count[e] = count;
+      edge_faces[2 * e] = faces[0];
+      edge_faces[2 * e + 1] = faces[1];
+      edge_boundary[e] = count == 1 ? 1 : 0;
+    }
+  }
+};
+
+/// face_edges[h]: the edge of half-edge h, found among its lower node's edges (higher ends sorted)
+/// by binary search.
+struct write_face_edges {
+  const index_t* face_nodes;
+  const index_t* node_edge_offset;
+  const index_t* edge_nodes;
+  index_t* face_edges;
+  TEAR_HD void operator()(index_t h) const {
+    index_t lo, hi;
+    half_edge_nodes(face_nodes, h / 3, h % 3, lo, hi);
+    index_t first = node_edge_offset[lo], last = node_edge_offset[lo + 1];  // [first, last)
+    while (first < last) {
+      const index_t mid = first + (last - first) / 2;
+      if (edge_nodes[2 * mid + 1] < hi)
+        first = mid + 1;
+      else
+        last = mid;
+    }
+    face_edges[h] = first;
   }
 };
 

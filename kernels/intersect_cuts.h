@@ -53,12 +53,29 @@ struct intersect_cuts {
       double event_s[max_face_events];
       int event_loc[max_face_events];
       int event_count = 0;
+      // Broad phase: a bounded segment whose box misses the face's box, grown by more than
+      // cross_edge's tolerances (a crossing it accepts lies on the edge and within twice its
+      // tolerance of the segment), crosses none of its edges.
+      double box_lo_x = corner[0].x, box_hi_x = corner[0].x, box_lo_y = corner[0].y, box_hi_y = corner[0].y;
+      for (int k = 1; k < 3; ++k) {
+        box_lo_x = fmin(box_lo_x, corner[k].x);
+        box_hi_x = fmax(box_hi_x, corner[k].x);
+        box_lo_y = fmin(box_lo_y, corner[k].y);
+        box_hi_y = fmax(box_hi_y, corner[k].y);
+      }
+      const double magnitude = fmax(fmax(fabs(box_lo_x), fabs(box_hi_x)), fmax(fabs(box_lo_y), fabs(box_hi_y)));
+      const double extent = (box_hi_x - box_lo_x) + (box_hi_y - box_lo_y);  // >= every edge's length
+      const double margin = 4.0 * (on_line_tolerance * extent + on_line_float_tolerance * magnitude);
       for (index_t i = 0; i + 1 < cut.point_count; ++i) {
         const index_t pi = cut.point_begin + i;
         const Vec2 p{point_x[pi], point_y[pi]}, q{point_x[pi + 1], point_y[pi + 1]};
         double lo, hi;
         bool hi_closed;
         segment_range(cut, i, lo, hi, hi_closed);
+        if (lo == 0.0 && hi == 1.0 &&
+            (fmax(p.x, q.x) < box_lo_x - margin || fmin(p.x, q.x) > box_hi_x + margin ||
+             fmax(p.y, q.y) < box_lo_y - margin || fmin(p.y, q.y) > box_hi_y + margin))
+          continue;
         for (int k = 0; k < 3; ++k) {
           // Edge k runs from local node k+1 to local node k+2.
           const Vec2 a = corner[(k + 1) % 3], b = corner[(k + 2) % 3];

@@ -122,17 +122,25 @@ struct is_positive {
   TEAR_HD bool operator()(float weight) const { return weight > 0.0f; }
 };
 
-/// Sort keys of the constraint slots: the slot's node, or `node_count` for an unused slot so that
-/// unused slots sort after every node's run.
-struct make_slot_keys {
+/// Histogram of the used constraint slots by node (`node_count_of` zeroed first).
+struct count_node_slots {
   const index_t* constraint_nodes;
-  index_t node_count;
-  index_t* slot_node;
-  index_t* slot_id;
+  index_t* node_count_of;
   TEAR_HD void operator()(index_t s) const {
     const index_t n = constraint_nodes[s];
-    slot_node[s] = n >= 0 ? n : node_count;
-    slot_id[s] = s;
+    if (n >= 0) atomic_fetch_add(&node_count_of[n], 1);
+  }
+};
+
+/// Puts each used slot in its node's run through the node's cursor; the runs are sorted afterwards
+/// (`sort_runs`), so each node lists its slots, and so its constraints, in index order.
+struct fill_node_slots {
+  const index_t* constraint_nodes;
+  index_t* node_cursor;
+  index_t* node_slots;
+  TEAR_HD void operator()(index_t s) const {
+    const index_t n = constraint_nodes[s];
+    if (n >= 0) node_slots[atomic_fetch_add(&node_cursor[n], 1)] = s;
   }
 };
 

@@ -1,11 +1,10 @@
-// Building the topology on either backend: sort + unique of node pairs for edges, a stable sort
-// of corners by node for the node→faces CSR, gathers for boundary flags.
-#include <thrust/binary_search.h>
+// Building the topology on either backend by counting and scanning (kernels/build_topology.h):
+// no sort, one read-back (the edge count).
 #include <thrust/copy.h>
+#include <thrust/fill.h>
 #include <thrust/for_each.h>
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/scan.h>
-#include <thrust/sort.h>
 
 #include "backend.h"
 #include "build_topology.h"
@@ -23,46 +22,47 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
   thrust::counting_iterator<index_t> zero(0);
   topo.node_count = node_count;
   topo.face_count = face_count;
+  const std::size_t nodes_and_end = static_cast<std::size_t>(node_count) + 1;
 
-  // Edges: sort the half-edges' (low, high) node keys; equal keys are one edge.
-  auto& half_key = scratch.half_key;
-  auto& half_id = scratch.half_id;
-  auto& head = scratch.head;
-  auto& edge_of_sorted = scratch.edge_of_sorted;
-  half_key.resize(half_count);
-  half_id.resize(half_count);
-  head.resize(half_count);
-  edge_of_sorted.resize(half_count);
-  thrust::for_each(policy, zero, zero + half_count, make_half_edge_keys{raw<index_t>(face_nodes), raw<std::uint64_t>(half_key), raw<index_t>(half_id)});
-  thrust::stable_sort_by_key(policy, half_key.begin(), half_key.end(), half_id.begin());
-  thrust::for_each(policy, zero, zero + half_count, flag_edge_heads{raw<std::uint64_t>(half_key), raw<index_t>(head)});
-  thrust::inclusive_scan(policy, head.begin(), head.end(), edge_of_sorted.begin());
-  const index_t edge_count = half_count ? static_cast<index_t>(edge_of_sorted[half_count - 1]) : 0;
-  topo.edge_count = edge_count;
-
-  topo.face_edges.resize(half_count);
-  topo.edge_nodes.resize(2 * static_cast<std::size_t>(edge_count));
-  auto& edge_first_half = scratch.edge_first_half;
-  edge_first_half.resize(edge_count);
+  // Node→faces: corners counted per node, the counts scanned into offsets, each corner's face put
+  // in its node's run, each run sorted (faces ascending).
+  auto& node_tally = scratch.node_tally;
+  node_tally.resize(nodes_and_end);
+  thrust::fill(policy, node_tally.begin(), node_tally.end(), 0);
+  thrust::for_each(policy, zero, zero + half_count, count_node_corners{raw<index_t>(face_nodes), raw<index_t>(node_tally)});
+  topo.node_face_offset.resize(nodes_and_end);
+  thrust::exclusive_scan(policy, node_tally.begin(), node_tally.end(), topo.node_face_offset.begin());
+  thrust::copy(policy, topo.node_face_offset.begin(), topo.node_face_offset.end(), node_tally.begin());  // cursors
+  topo.node_faces.resize(half_count);
   thrust::for_each(policy, zero, zero + half_count,
-                   write_face_edges{raw<std::uint64_t>(half_key), raw<index_t>(half_id), raw<index_t>(head), raw<index_t>(edge_of_sorted),
-                                    raw<index_t>(topo.face_edges), raw<index_t>(topo.edge_nodes), raw<index_t>(edge_first_half)});
+                   fill_node_faces{raw<index_t>(face_nodes), raw<index_t>(node_tally), raw<index_t>(topo.node_faces)});
+  thrust::for_each(policy, zero, zero + node_count,
+                   sort_runs{raw<index_t>(topo.node_face_offset), raw<index_t>(topo.node_faces)});
+
+  // Edges: counted at their lower node, numbered by a scan of the counts, written in (low, high)
+  // order with their faces.
+  thrust::for_each(policy, zero, zero + node_count,
+                   count_node_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
+                                    raw<index_t>(topo.node_faces), raw<index_t>(node_tally)});
+  node_tally[node_count] = 0;
+  auto& node_edge_offset = scratch.node_edge_offset;
+  node_edge_offset.resize(nodes_and_end);
+  thrust::exclusive_scan(policy, node_tally.begin(), node_tally.end(), node_edge_offset.begin());
+  const index_t edge_count = node_edge_offset[node_count];
+  topo.edge_count = edge_count;
+  topo.edge_nodes.resize(2 * static_cast<std::size_t>(edge_count));
   topo.edge_faces.resize(2 * static_cast<std::size_t>(edge_count));
   topo.edge_face_count.resize(edge_count);
   topo.edge_boundary.resize(edge_count);
-  thrust::for_each(policy, zero, zero + edge_count,
-                   write_edge_faces{raw<index_t>(edge_first_half), raw<index_t>(half_id), half_count, edge_count, raw<index_t>(topo.edge_faces),
+  thrust::for_each(policy, zero, zero + node_count,
+                   write_node_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
+                                    raw<index_t>(topo.node_faces), raw<index_t>(node_edge_offset),
+                                    raw<index_t>(topo.edge_nodes), raw<index_t>(topo.edge_faces),
                                     raw<index_t>(topo.edge_face_count), raw<std::uint8_t>(topo.edge_boundary)});
-
-  // Node→faces: corners stably sorted by node keep each node's faces ascending; the offsets are
-  // where each node's run begins.
-  auto& corner_node = scratch.corner_node;
-  corner_node.resize(half_count);
-  topo.node_faces.resize(half_count);
-  thrust::for_each(policy, zero, zero + half_count, make_corner_keys{raw<index_t>(face_nodes), raw<index_t>(corner_node), raw<index_t>(topo.node_faces)});
-  thrust::stable_sort_by_key(policy, corner_node.begin(), corner_node.end(), topo.node_faces.begin());
-  topo.node_face_offset.resize(static_cast<std::size_t>(node_count) + 1);
-  thrust::lower_bound(policy, corner_node.begin(), corner_node.end(), zero, zero + node_count + 1, topo.node_face_offset.begin());
+  topo.face_edges.resize(half_count);
+  thrust::for_each(policy, zero, zero + half_count,
+                   write_face_edges{raw<index_t>(face_nodes), raw<index_t>(node_edge_offset),
+                                    raw<index_t>(topo.edge_nodes), raw<index_t>(topo.face_edges)});
 
   topo.node_boundary.resize(node_count);
   thrust::for_each(policy, zero, zero + node_count,

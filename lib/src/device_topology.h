@@ -44,8 +44,8 @@ Topology download(const DeviceTopology<System>& d) {
 /// Working arrays of `build_device_topology`, kept between builds so they only grow.
 template <class System>
 struct TopologyScratch {
-  vector<System, std::uint64_t> half_key;
-  vector<System, index_t> half_id, head, edge_of_sorted, edge_first_half, corner_node;
+  vector<System, index_t> node_tally;        // [node_count + 1] corner counts, then cursors, then edge counts
+  vector<System, index_t> node_edge_offset;  // [node_count + 1] first edge whose lower node is n
 };
 
 /// Builds the topology of `face_nodes` (already on the backend) into `topo`, using `scratch` and

@@ -4,14 +4,14 @@
 #include <cmath>
 #include <type_traits>
 
-#include <thrust/binary_search.h>
 #include <thrust/copy.h>
 #include <thrust/count.h>
 #include <thrust/for_each.h>
 #include <thrust/iterator/counting_iterator.h>
-#include <thrust/sort.h>
+#include <thrust/scan.h>
 
 #include "backend.h"
+#include "build_topology.h"
 #include "device_topology.h"
 #include "pd_model.h"
 #include "pd_solver.h"
@@ -148,17 +148,19 @@ void PdSolverOn<System>::build_model(const std::vector<index_t>& face_nodes_host
   active_constraint_count_ = static_cast<index_t>(
       thrust::count_if(policy, constraint_weight_.begin(), constraint_weight_.end(), is_positive{}));
 
-  // Node→constraint CSR: slots stably sorted by node keep each node's constraints in index order,
-  // the fixed order its Jacobi update sums them in.
-  vec<index_t> slot_node(slot_count);
-  node_slots_.resize(slot_count);
-  thrust::for_each(
-      policy, zero, zero + slot_count,
-      make_slot_keys{raw<index_t>(constraint_nodes_), node_count_, raw<index_t>(slot_node), raw<index_t>(node_slots_)});
-  thrust::stable_sort_by_key(policy, slot_node.begin(), slot_node.end(), node_slots_.begin());
+  // Node→constraint CSR by counting: slots counted per node, the counts scanned into offsets, the
+  // slots put in their nodes' runs and each run sorted, so a node's constraints come in index
+  // order, the fixed order its Jacobi update sums them in.
+  vec<index_t> node_tally(static_cast<std::size_t>(node_count_) + 1, 0);
+  thrust::for_each(policy, zero, zero + slot_count,
+                   count_node_slots{raw<index_t>(constraint_nodes_), raw<index_t>(node_tally)});
   node_slot_offset_.resize(static_cast<std::size_t>(node_count_) + 1);
-  thrust::lower_bound(policy, slot_node.begin(), slot_node.end(), zero, zero + node_count_ + 1,
-                      node_slot_offset_.begin());
+  thrust::exclusive_scan(policy, node_tally.begin(), node_tally.end(), node_slot_offset_.begin());
+  thrust::copy(policy, node_slot_offset_.begin(), node_slot_offset_.end(), node_tally.begin());
+  node_slots_.resize(node_slot_offset_[node_count_]);
+  thrust::for_each(policy, zero, zero + slot_count,
+                   fill_node_slots{raw<index_t>(constraint_nodes_), raw<index_t>(node_tally), raw<index_t>(node_slots_)});
+  thrust::for_each(policy, zero, zero + node_count_, sort_runs{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_)});
 
   const double h = options_.step_seconds();
   node_diag_.resize(node_count_);
