@@ -9,6 +9,7 @@
 #include "catch.h"
 #include "pd_math.h"
 #include "pd_oracle.h"
+#include "tear/cloth.h"
 #include "tear/error.h"
 #include "tear/make_sheet.h"
 #include "tear/simulation.h"
@@ -536,6 +537,32 @@ TEST_CASE("simulation: the state round-trips through the host and the device poi
   CHECK_THROWS_AS(a.set_state(std::vector<float>(3), vel), tear::Error);
   PdSolver moved = std::move(b);
   CHECK(moved.node_pos() == pos);
+}
+
+TEST_CASE("simulation: stepping a cloth in place gives the bits of the host round trip", "[simulation]") {
+  const tear::Mesh mesh = horizontal_sheet(200, true);
+  SimulationOptions o;
+  o.pins = {edge_pin()};
+  PdSolver a(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
+  PdSolver b(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
+  tear::Cloth cloth(mesh, tear::test::test_device());
+  std::vector<float> pos = mesh.node_pos, vel(pos.size(), 0.0f);
+  for (int f = 0; f < 6; ++f) {
+    a.step(pos, vel);
+    b.step(cloth);  // device to device: the cloth's own arrays stepped
+  }
+  CHECK(pos != mesh.node_pos);
+  CHECK(cloth.node_pos() == pos);
+  CHECK(cloth.node_vel() == vel);
+
+  // A cloth of another mesh is refused, naming both node counts.
+  tear::Cloth other(horizontal_sheet(20), tear::test::test_device());
+  try {
+    b.step(other);
+    FAIL("expected an error");
+  } catch (const tear::Error& e) {
+    CHECK(std::string(e.what()).find(std::to_string(mesh.node_count())) != std::string::npos);
+  }
 }
 
 TEST_CASE("simulation: CUDA and CPU agree", "[simulation]") {

@@ -15,7 +15,9 @@ struct BenchArgs {
   std::string device = "auto";
   std::vector<index_t> faces;
   int repeats = 7;
+  int warmup = 2;
   int iterations = 100;
+  std::vector<std::string> resolutions;
   std::vector<std::string> only;
   std::string json_path;
   bool no_cpu = false;
@@ -68,12 +70,24 @@ void run_bench(const BenchArgs& args) {
   BenchOptions options;
   if (!args.faces.empty()) options.face_counts = args.faces;
   options.repeats = args.repeats;
+  options.warmup = args.warmup;
   options.iterations = args.iterations;
-  std::printf("tear bench on %s%s; medians of %d runs, milliseconds\n", device_name(device).c_str(),
-              with_cpu ? (" and " + device_name(Device::cpu)).c_str() : "", options.repeats);
+  if (!args.resolutions.empty()) {
+    options.resolutions.clear();
+    for (const std::string& r : args.resolutions) {
+      try {
+        options.resolutions.push_back(parse_demo_resolution(r));
+      } catch (const Error&) {
+        throw Error(ErrorKind::usage, "--resolutions " + r + ": expected low, medium or high");
+      }
+    }
+  }
+  std::printf("tear bench on %s%s; medians of %d runs after %d untimed, milliseconds\n", device_name(device).c_str(),
+              with_cpu ? (" and " + device_name(Device::cpu)).c_str() : "", options.repeats, options.warmup);
   nlohmann::json doc = {{"device_name", device_name(device)},
                         {"cpu_name", device_name(Device::cpu)},
                         {"repeats", options.repeats},
+                        {"warmup", options.warmup},
                         {"iterations", options.iterations},
                         {"segments", options.segments}};
 
@@ -172,8 +186,11 @@ void add_bench_command(CLI::App& app) {
   add_device_option(*cmd, args->device);
   cmd->add_option("--faces", args->faces, "Sheet sizes in faces, comma separated (even, >= 2)")->delimiter(',');
   cmd->add_option("--repeats", args->repeats, "Timed runs per size and backend (median reported)")->check(CLI::Range(1, 1000));
+  cmd->add_option("--warmup", args->warmup, "Untimed runs before the timed ones")->check(CLI::Range(0, 1000));
   cmd->add_option("--iterations", args->iterations, "Solver iterations per step (pd) and per frame (scene)")
       ->check(CLI::Range(1, 100000));
+  cmd->add_option("--resolutions", args->resolutions, "Resolutions of the scene part: low, medium, high (comma separated)")
+      ->delimiter(',');
   cmd->add_option("--only", args->only, "Run only these parts: remesh, pd, scene (comma separated)")->delimiter(',');
   cmd->add_option("--json", args->json_path, "Also write every number to this JSON file");
   cmd->add_flag("--no-cpu", args->no_cpu, "On the GPU, skip the CPU-backend comparison");

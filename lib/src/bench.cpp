@@ -121,7 +121,7 @@ std::vector<PdBenchRow> run_pd_bench(const BenchOptions& options, Device device,
 std::vector<SceneBenchRow> run_scene_bench(const BenchOptions& options, Device device) {
   using Clock = std::chrono::steady_clock;
   std::vector<SceneBenchRow> rows;
-  for (DemoResolution resolution : {DemoResolution::low, DemoResolution::medium, DemoResolution::high}) {
+  for (DemoResolution resolution : options.resolutions) {
     CutScript script = demo_script();
     script.simulation["substeps"] = 1;
     script.simulation["iterations"] = options.iterations;

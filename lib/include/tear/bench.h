@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "tear/cloth.h"
+#include "tear/demo_scene.h"
 #include "tear/device.h"
 
 namespace tear {
@@ -21,6 +22,8 @@ struct BenchOptions {
   int warmup = 2;     ///< untimed runs first
   int segments = 16;  ///< segments of the cut's polyline (a zigzag across the sheet)
   int iterations = 100;  ///< solver iterations per step (`run_pd_bench`) and per frame (`run_scene_bench`)
+  /// Resolutions of the paper's scene (`run_scene_bench`).
+  std::vector<DemoResolution> resolutions{DemoResolution::low, DemoResolution::medium, DemoResolution::high};
 };
 
 /// One size on one backend. Times are medians over the repeats, milliseconds.
