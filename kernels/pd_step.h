@@ -32,8 +32,22 @@ struct predict_positions {
   }
 };
 
-/// Local step of constraint c at the current iterate: f_c = w_c (p_c − A_c x), the constraint's
-/// pull towards its projection p_c (pd_math.h `project_length`): newtons for a spring.
+/// Local step of constraint c at the iterate x: f_c = w_c (p_c − A_c x), the constraint's pull
+/// towards its projection p_c (pd_math.h `project_length`): newtons for a spring. One function for
+/// both ways of running an iteration, so they compute the same bits.
+TEAR_HD inline Vec3f compute_constraint_force(const index_t* constraint_nodes, const float* constraint_coef,
+                                      const float* constraint_weight, const float* constraint_rest,
+                                      const float* node_iter, index_t c) {
+  Vec3f d{0, 0, 0};
+  for (int j = 0; j < pd_constraint_nodes; ++j) {
+    const index_t n = constraint_nodes[pd_constraint_nodes * c + j];
+    if (n >= 0) d = d + constraint_coef[pd_constraint_nodes * c + j] * load3<float>(node_iter, n);
+  }
+  const Vec3f p = project_length(d, constraint_rest[c]);
+  return constraint_weight[c] * (p - d);
+}
+
+/// Local step of every constraint, stored for the global step (`jacobi_chebyshev_update`).
 struct project_constraints {
   const index_t* constraint_nodes;
   const float* constraint_coef;
@@ -42,13 +56,8 @@ struct project_constraints {
   const float* node_iter;
   float* constraint_force;  // [constraint_count * 3]
   TEAR_HD void operator()(index_t c) const {
-    Vec3f d{0, 0, 0};
-    for (int j = 0; j < pd_constraint_nodes; ++j) {
-      const index_t n = constraint_nodes[pd_constraint_nodes * c + j];
-      if (n >= 0) d = d + constraint_coef[pd_constraint_nodes * c + j] * load3<float>(node_iter, n);
-    }
-    const Vec3f p = project_length(d, constraint_rest[c]);
-    store3(constraint_force, c, constraint_weight[c] * (p - d));
+    store3(constraint_force, c,
+           compute_constraint_force(constraint_nodes, constraint_coef, constraint_weight, constraint_rest, node_iter, c));
   }
 };
 
@@ -87,6 +96,53 @@ struct jacobi_chebyshev_update {
     for (index_t i = node_slot_offset[n]; i < node_slot_offset[n + 1]; ++i) {
       const index_t slot = node_slots[i];
       g = g + constraint_coef[slot] * load3<float>(constraint_force, slot / pd_constraint_nodes);
+    }
+    const Vec3f x_hat = x + (1.0f / diag) * g;
+    const Vec3f x_prev = load3<float>(node_iter_prev, n);
+    store3(node_iter_next, n, omega * (gamma * (x_hat - x) + x - x_prev) + x_prev);
+  }
+};
+
+/// Local and global step in one pass: node n computes the forces of its own constraints where
+/// `jacobi_chebyshev_update` reads them from `project_constraints`. A spring's force is computed
+/// by both its nodes and a hinge's by all four, in the same operations, so the result is the same
+/// bits as the two-pass iteration while the forces never go through memory and an iteration is one
+/// launch.
+struct jacobi_chebyshev_fused {
+  const index_t* node_slot_offset;
+  const index_t* node_slots;
+  const index_t* constraint_nodes;
+  const float* constraint_coef;
+  const float* constraint_weight;
+  const float* constraint_rest;
+  const float* node_mass;
+  const float* node_diag;
+  const std::uint8_t* node_pinned;
+  const float* node_pred;
+  const float* node_iter;
+  const float* node_iter_prev;
+  float inv_h2;
+  float omega;
+  float gamma;
+  float* node_iter_next;
+  TEAR_HD void operator()(index_t n) const {
+    const Vec3f x = load3<float>(node_iter, n);
+    if (node_pinned[n]) {
+      store3(node_iter_next, n, x);
+      return;
+    }
+    const Vec3f s = load3<float>(node_pred, n);
+    const float diag = node_diag[n];
+    if (!(diag > 0.0f)) {
+      store3(node_iter_next, n, s);
+      return;
+    }
+    Vec3f g = (node_mass[n] * inv_h2) * (s - x);
+    for (index_t i = node_slot_offset[n]; i < node_slot_offset[n + 1]; ++i) {
+      const index_t slot = node_slots[i];
+      const Vec3f f = compute_constraint_force(constraint_nodes, constraint_coef, constraint_weight, constraint_rest, node_iter,
+                                       slot / pd_constraint_nodes);
+      g = g + constraint_coef[slot] * f;
     }
     const Vec3f x_hat = x + (1.0f / diag) * g;
     const Vec3f x_prev = load3<float>(node_iter_prev, n);

@@ -2,6 +2,8 @@
 // masses, constraints, node→constraint CSR, Jacobi diagonal), then each step is a fixed sequence of
 // kernel launches with no read-back, so a CUDA step queues without waiting.
 #include <cmath>
+#include <cstdlib>
+#include <string>
 #include <type_traits>
 
 #include <thrust/copy.h>
@@ -17,8 +19,23 @@
 #include "pd_solver.h"
 #include "pd_step.h"
 #include "replay_graph.h"
+#include "tear/error.h"
 
 namespace tear::backend {
+
+namespace {
+/// How an iteration runs: TEAR_PD_ITERATION=fused (one pass, forces computed where they are
+/// summed) or split (a pass over the constraints, then one over the nodes); both give the same
+/// bits. Unset: `fused_default`.
+bool fused_iteration(bool fused_default) {
+  const char* setting = std::getenv("TEAR_PD_ITERATION");
+  if (!setting || !*setting) return fused_default;
+  const std::string mode = setting;
+  if (mode == "fused") return true;
+  if (mode == "split") return false;
+  throw runtime_error("TEAR_PD_ITERATION=" + mode + ": expected fused or split");
+}
+}  // namespace
 
 template <class System>
 class PdSolverOn final : public PdSolver::Impl {
@@ -33,6 +50,7 @@ class PdSolverOn final : public PdSolver::Impl {
         node_pinned_(node_pinned.begin(), node_pinned.end()),
         node_pos_(node_rest.begin(), node_rest.end()),
         node_vel_(node_rest.size(), 0.0f) {
+    fused_ = fused_iteration(std::is_same<System, Cuda>::value);
     build_model(face_nodes, node_rest);
     node_pred_.resize(3 * static_cast<std::size_t>(node_count));
     for (auto& iter : node_iter_) iter.resize(3 * static_cast<std::size_t>(node_count));
@@ -61,10 +79,14 @@ class PdSolverOn final : public PdSolver::Impl {
     // written; each iterate read once. Global step: a node's CSR offset, mass, diagonal, pin,
     // prediction and two iterates read and the next written; a slot's constraint and coefficient
     // read; each force read once.
-    const std::size_t local = c * (4 * sizeof(index_t) + 4 * sizeof(float) + 2 * sizeof(float) + 3 * sizeof(float)) +
-                              n * 3 * sizeof(float);
-    const std::size_t global = n * (sizeof(index_t) + 2 * sizeof(float) + 1 + 4 * 3 * sizeof(float)) +
-                               s * (sizeof(index_t) + sizeof(float)) + c * 3 * sizeof(float);
+    const std::size_t constraint = 4 * sizeof(index_t) + 4 * sizeof(float) + 2 * sizeof(float);
+    const std::size_t node = sizeof(index_t) + 2 * sizeof(float) + 1 + 4 * 3 * sizeof(float);
+    // Fused: each constraint's record read once (its other nodes serve it from the cache), a
+    // slot's index read, the node's own data. Two passes: the forces written and read back, each
+    // iterate read by both passes, a slot's coefficient read apart from its record.
+    if (fused_) return c * constraint + s * sizeof(index_t) + n * node;
+    const std::size_t local = c * (constraint + 3 * sizeof(float)) + n * 3 * sizeof(float);
+    const std::size_t global = n * node + s * (sizeof(index_t) + sizeof(float)) + c * 3 * sizeof(float);
     return local + global;
   }
   const SimulationOptions& options() const override { return options_; }
@@ -97,6 +119,7 @@ class PdSolverOn final : public PdSolver::Impl {
   void enqueue_substep(const Policy& policy);
 
   SimulationOptions options_;
+  bool fused_ = false;  // one pass per iteration (jacobi_chebyshev_fused) instead of two
   index_t node_count_ = 0;
   index_t constraint_count_ = 0;  // 2 per edge, weightless ones included
   index_t active_constraint_count_ = 0;
@@ -199,6 +222,20 @@ void PdSolverOn<System>::enqueue_substep(const Policy& policy) {
   double omega = 1.0;
   for (int k = 0; k < options_.iterations; ++k) {
     omega = chebyshev_omega(k, cheb.delay, cheb.rho, omega);
+    if (fused_) {
+      thrust::for_each(
+          policy, zero, zero + node_count_,
+          jacobi_chebyshev_fused{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), raw<index_t>(constraint_nodes_),
+                                 raw<float>(constraint_coef_), raw<float>(constraint_weight_), raw<float>(constraint_rest_),
+                                 raw<float>(node_mass_), raw<float>(node_diag_), raw<std::uint8_t>(node_pinned_),
+                                 raw<float>(node_pred_), raw<float>(node_iter_[cur]), raw<float>(node_iter_[prev]), inv_h2,
+                                 static_cast<float>(omega), gamma, raw<float>(node_iter_[next])});
+      const int old_prev = prev;
+      prev = cur;
+      cur = next;
+      next = old_prev;
+      continue;
+    }
     // Local step: every constraint's projection at the current iterate (§4.1).
     thrust::for_each(policy, zero, zero + constraint_count_,
                      project_constraints{raw<index_t>(constraint_nodes_), raw<float>(constraint_coef_),
