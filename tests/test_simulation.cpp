@@ -567,6 +567,38 @@ TEST_CASE("simulation: the one-pass and the two-pass iteration give the same bit
   }
 }
 
+TEST_CASE("simulation: a solver built from a cut cloth's own arrays matches one built from its mesh", "[simulation]") {
+  tear::SheetOptions sheet;
+  sheet.face_count = 600;
+  const tear::Mesh mesh = tear::make_sheet(sheet);
+  tear::Cloth cloth(mesh, tear::test::test_device());
+  tear::CutLine line;
+  line.polyline = {{-0.1, 0.45}, {0.5, 0.55}, {1.1, 0.4}};
+  cloth.cut({line});
+  REQUIRE(cloth.face_count() > mesh.face_count());
+  SimulationOptions o;
+  tear::Pin top;
+  top.min = {-1, 1 - 1e-6, -1};
+  top.max = {2, 1 + 1e-6, 1};
+  o.pins = {top};
+  const std::vector<float> rest = cloth.node_rest();
+  const std::vector<std::uint8_t> pinned = tear::resolve_pins(o, rest, cloth.node_count());
+  PdSolver from_mesh(cloth.mesh().face_nodes, rest, cloth.node_count(), o, tear::test::test_device(), pinned);
+  PdSolver from_cloth(cloth, o, pinned);
+  CHECK(from_cloth.constraint_count() == from_mesh.constraint_count());
+  CHECK(from_cloth.node_mass() == from_mesh.node_mass());
+  CHECK(from_cloth.node_pos() == rest);
+  std::vector<float> pos = cloth.node_pos(), vel = cloth.node_vel();
+  for (int f = 0; f < 4; ++f) {
+    from_mesh.step(pos, vel);
+    from_cloth.step(cloth);
+  }
+  CHECK(pos != rest);
+  CHECK(cloth.node_pos() == pos);
+  CHECK(cloth.node_vel() == vel);
+  CHECK_THROWS(PdSolver(cloth, o, std::vector<std::uint8_t>(3, 0)));
+}
+
 TEST_CASE("simulation: stepping a cloth in place gives the bits of the host round trip", "[simulation]") {
   const tear::Mesh mesh = horizontal_sheet(200, true);
   SimulationOptions o;

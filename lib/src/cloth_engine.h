@@ -3,6 +3,7 @@
 
 #include <memory>
 
+#include "pd_solver.h"
 #include "systems.h"
 #include "tear/cloth.h"
 
@@ -26,6 +27,9 @@ class Cloth::Engine {
   /// The state in the backend's own memory, [node_count * 3] each; valid until the next cut.
   virtual float* device_node_pos() = 0;
   virtual float* device_node_vel() = 0;
+  /// The solver of the current mesh, built from the arrays and topology on the backend.
+  virtual std::unique_ptr<PdSolver::Impl> make_solver(const SimulationOptions& options,
+                                                      const std::vector<std::uint8_t>& node_pinned) const = 0;
 };
 
 namespace backend {

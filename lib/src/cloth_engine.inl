@@ -19,6 +19,7 @@
 #include "device_topology.h"
 #include "intersect_cuts.h"
 #include "map_nodes.h"
+#include "pd_solver_device.h"
 #include "split_table.h"
 #include "write_new_faces.h"
 #include "write_new_nodes.h"
@@ -88,6 +89,10 @@ class ClothEngine final : public Cloth::Engine {
     p.node_source_weight = to_host<float>(node_source_weight_);
     p.face_parent = to_host<index_t>(face_parent_);
     return p;
+  }
+  std::unique_ptr<PdSolver::Impl> make_solver(const SimulationOptions& options,
+                                              const std::vector<std::uint8_t>& node_pinned) const override {
+    return make_pd_solver<System>(face_nodes_, node_rest_, topo_, options, node_pinned);
   }
   float* device_node_pos() override { return raw<float>(node_pos_); }
   float* device_node_vel() override { return raw<float>(node_vel_); }

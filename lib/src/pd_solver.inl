@@ -17,6 +17,7 @@
 #include "device_topology.h"
 #include "pd_model.h"
 #include "pd_solver.h"
+#include "pd_solver_device.h"
 #include "pd_step.h"
 #include "replay_graph.h"
 #include "tear/error.h"
@@ -43,15 +44,32 @@ class PdSolverOn final : public PdSolver::Impl {
   using vec = vector<System, T>;
 
  public:
-  PdSolverOn(const std::vector<index_t>& face_nodes, const std::vector<float>& node_rest, index_t node_count,
+  /// From host arrays: uploads them and builds their topology.
+  PdSolverOn(const std::vector<index_t>& face_nodes_host, const std::vector<float>& node_rest_host, index_t node_count,
              const SimulationOptions& options, const std::vector<std::uint8_t>& node_pinned)
+      : PdSolverOn(options, node_count, node_pinned) {
+    const vec<index_t> face_nodes(face_nodes_host.begin(), face_nodes_host.end());
+    const vec<float> node_rest(node_rest_host.begin(), node_rest_host.end());
+    DeviceTopology<System> topo;
+    build_device_topology(topo, face_nodes, node_count_);
+    build_model(face_nodes, node_rest, topo);
+  }
+
+  /// From a mesh already on this backend with its topology (a cloth's): nothing leaves the device.
+  PdSolverOn(const vec<index_t>& face_nodes, const vec<float>& node_rest, const DeviceTopology<System>& topo,
+             const SimulationOptions& options, const std::vector<std::uint8_t>& node_pinned)
+      : PdSolverOn(options, topo.node_count, node_pinned) {
+    build_model(face_nodes, node_rest, topo);
+  }
+
+ private:
+  PdSolverOn(const SimulationOptions& options, index_t node_count, const std::vector<std::uint8_t>& node_pinned)
       : options_(options),
         node_count_(node_count),
         node_pinned_(node_pinned.begin(), node_pinned.end()),
-        node_pos_(node_rest.begin(), node_rest.end()),
-        node_vel_(node_rest.size(), 0.0f) {
+        node_pos_(3 * static_cast<std::size_t>(node_count), 0.0f),
+        node_vel_(3 * static_cast<std::size_t>(node_count), 0.0f) {
     fused_ = fused_iteration(std::is_same<System, Cuda>::value);
-    build_model(face_nodes, node_rest);
     node_pred_.resize(3 * static_cast<std::size_t>(node_count));
     for (auto& iter : node_iter_) iter.resize(3 * static_cast<std::size_t>(node_count));
     std::vector<kernels::PdCollider> colliders;
@@ -69,6 +87,7 @@ class PdSolverOn final : public PdSolver::Impl {
     colliders_.assign(colliders.begin(), colliders.end());
   }
 
+ public:
   Device device() const override { return std::is_same<System, Omp>::value ? Device::cpu : Device::cuda; }
   index_t node_count() const override { return node_count_; }
   index_t constraint_count() const override { return active_constraint_count_; }
@@ -114,7 +133,9 @@ class PdSolverOn final : public PdSolver::Impl {
   std::vector<std::uint8_t> node_pinned() const override { return to_host<std::uint8_t>(node_pinned_); }
 
  private:
-  void build_model(const std::vector<index_t>& face_nodes_host, const std::vector<float>& node_rest_host);
+  /// Masses, constraints, the node→constraint CSR and the Jacobi diagonal of the mesh; the state
+  /// starts at rest (positions = rest positions, no velocity).
+  void build_model(const vec<index_t>& face_nodes, const vec<float>& node_rest, const DeviceTopology<System>& topo);
   template <class Policy>
   void enqueue_substep(const Policy& policy);
 
@@ -138,15 +159,12 @@ class PdSolverOn final : public PdSolver::Impl {
 };
 
 template <class System>
-void PdSolverOn<System>::build_model(const std::vector<index_t>& face_nodes_host,
-                                     const std::vector<float>& node_rest_host) {
+void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<float>& node_rest,
+                                     const DeviceTopology<System>& topo) {
   using namespace kernels;
   const auto policy = Traits<System>::policy();
   const thrust::counting_iterator<index_t> zero(0);
-  const vec<index_t> face_nodes(face_nodes_host.begin(), face_nodes_host.end());
-  const vec<float> node_rest(node_rest_host.begin(), node_rest_host.end());
-  DeviceTopology<System> topo;
-  build_device_topology(topo, face_nodes, node_count_);
+  thrust::copy(policy, node_rest.begin(), node_rest.end(), node_pos_.begin());
 
   node_mass_.resize(node_count_);
   thrust::for_each(
@@ -269,9 +287,20 @@ std::unique_ptr<PdSolver::Impl> make_pd_solver(const std::vector<index_t>& face_
   return std::make_unique<PdSolverOn<System>>(face_nodes, node_rest, node_count, options, node_pinned);
 }
 
+template <class System>
+std::unique_ptr<PdSolver::Impl> make_pd_solver(const vector<System, index_t>& face_nodes,
+                                               const vector<System, float>& node_rest,
+                                               const DeviceTopology<System>& topo, const SimulationOptions& options,
+                                               const std::vector<std::uint8_t>& node_pinned) {
+  return std::make_unique<PdSolverOn<System>>(face_nodes, node_rest, topo, options, node_pinned);
+}
+
 #define TEAR_INSTANTIATE(S)                                                                                          \
   template std::unique_ptr<PdSolver::Impl> make_pd_solver<S>(const std::vector<index_t>&, const std::vector<float>&, \
                                                              index_t, const SimulationOptions&,                      \
+                                                             const std::vector<std::uint8_t>&);                      \
+  template std::unique_ptr<PdSolver::Impl> make_pd_solver<S>(const vector<S, index_t>&, const vector<S, float>&,     \
+                                                             const DeviceTopology<S>&, const SimulationOptions&,     \
                                                              const std::vector<std::uint8_t>&);
 TEAR_FOR_EACH_SYSTEM(TEAR_INSTANTIATE)
 #undef TEAR_INSTANTIATE

@@ -75,8 +75,7 @@ class FrameSimulation {
     const std::vector<float> node_rest = cloth.node_rest();
     std::vector<std::uint8_t> node_pinned = resolve_pins(box_pins_, node_rest, node_count);
     for (index_t n = 0; n < node_count; ++n) node_pinned[n] |= node_listed_[n];
-    solver_ = std::make_unique<PdSolver>(cloth.mesh().face_nodes, node_rest, node_count, options_, cloth.device(),
-                                         node_pinned);
+    solver_ = std::make_unique<PdSolver>(cloth, options_, node_pinned);
   }
 
   /// A new node stays pinned when its only source (weight 1) was: the copies of a pinned node. A node

@@ -202,6 +202,13 @@ PdSolver::PdSolver(const std::vector<index_t>& face_nodes, const std::vector<flo
   });
 }
 
+PdSolver::PdSolver(const Cloth& cloth, const SimulationOptions& options, const std::vector<std::uint8_t>& node_pinned) {
+  if (node_pinned.size() != static_cast<std::size_t>(cloth.node_count()))
+    throw runtime_error("PdSolver: node_pinned holds " + std::to_string(node_pinned.size()) + " flags, expected " +
+                        std::to_string(cloth.node_count()));
+  impl_ = cloth.engine_->make_solver(options, node_pinned);
+}
+
 PdSolver::~PdSolver() = default;
 PdSolver::PdSolver(PdSolver&&) noexcept = default;
 PdSolver& PdSolver::operator=(PdSolver&&) noexcept = default;

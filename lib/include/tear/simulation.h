@@ -101,6 +101,11 @@ class PdSolver {
   /// carried through cuts; `options.pins` is ignored.
   PdSolver(const std::vector<index_t>& face_nodes, const std::vector<float>& node_rest, index_t node_count,
            const SimulationOptions& options, Device device, const std::vector<std::uint8_t>& node_pinned);
+  /// The solver of `cloth`'s current mesh on the cloth's backend, built from the arrays and the
+  /// topology the cloth holds there (no host round trip but the pins). `node_pinned` [node_count]
+  /// (1 = pinned), as `resolve_pins` gives; `options.pins` is ignored. The state starts at rest;
+  /// `step(cloth)` steps the cloth's own state.
+  PdSolver(const Cloth& cloth, const SimulationOptions& options, const std::vector<std::uint8_t>& node_pinned);
   ~PdSolver();
   PdSolver(PdSolver&&) noexcept;
   PdSolver& operator=(PdSolver&&) noexcept;
