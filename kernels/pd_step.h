@@ -61,60 +61,38 @@ struct project_constraints {
   }
 };
 
-/// Global step at node n: one Jacobi update of (M/h² + Σ w AᵀA) x = M s/h² + Σ w Aᵀ p,
-///   x̂ = x + (m/h² (s − x) + Σ_c k_{c,n} f_c) / D_n,
-/// then Chebyshev's x⁽ᵏ⁺¹⁾ = ω (γ (x̂ − x⁽ᵏ⁾) + x⁽ᵏ⁾ − x⁽ᵏ⁻¹⁾) + x⁽ᵏ⁻¹⁾ (Wang 2015, eq. 12 with
-/// under-relaxation γ). Pinned nodes stay. A node with no mass and no constraint follows s.
-struct jacobi_chebyshev_update {
-  const index_t* node_slot_offset;
-  const index_t* node_slots;
-  const float* constraint_coef;
+/// Where the global step finds constraint c's force: stored by `project_constraints`...
+struct StoredForces {
   const float* constraint_force;
-  const float* node_mass;
-  const float* node_diag;
-  const std::uint8_t* node_pinned;
-  const float* node_pred;
-  const float* node_iter;
-  const float* node_iter_prev;
-  float inv_h2;
-  float omega;
-  float gamma;
-  float* node_iter_next;
-  TEAR_HD void operator()(index_t n) const {
-    const Vec3f x = load3<float>(node_iter, n);
-    if (node_pinned[n]) {
-      store3(node_iter_next, n, x);
-      return;
-    }
-    const Vec3f s = load3<float>(node_pred, n);
-    const float diag = node_diag[n];
-    if (!(diag > 0.0f)) {
-      store3(node_iter_next, n, s);
-      return;
-    }
-    Vec3f g = (node_mass[n] * inv_h2) * (s - x);
-    for (index_t i = node_slot_offset[n]; i < node_slot_offset[n + 1]; ++i) {
-      const index_t slot = node_slots[i];
-      g = g + constraint_coef[slot] * load3<float>(constraint_force, slot / pd_constraint_nodes);
-    }
-    const Vec3f x_hat = x + (1.0f / diag) * g;
-    const Vec3f x_prev = load3<float>(node_iter_prev, n);
-    store3(node_iter_next, n, omega * (gamma * (x_hat - x) + x - x_prev) + x_prev);
-  }
+  TEAR_HD Vec3f operator()(index_t c) const { return load3<float>(constraint_force, c); }
 };
 
-/// Local and global step in one pass: node n computes the forces of its own constraints where
-/// `jacobi_chebyshev_update` reads them from `project_constraints`. A spring's force is computed
-/// by both its nodes and a hinge's by all four, in the same operations, so the result is the same
-/// bits as the two-pass iteration while the forces never go through memory and an iteration is one
-/// launch.
-struct jacobi_chebyshev_fused {
-  const index_t* node_slot_offset;
-  const index_t* node_slots;
+/// ...or computed on the spot from the current iterate (the one-pass iteration). A spring's force is
+/// then computed by both its nodes and a hinge's by all four, in the same operations as
+/// `project_constraints`, so the result is the same bits while the forces never go through memory
+/// and an iteration is one launch.
+struct ComputedForces {
   const index_t* constraint_nodes;
   const float* constraint_coef;
   const float* constraint_weight;
   const float* constraint_rest;
+  const float* node_iter;
+  TEAR_HD Vec3f operator()(index_t c) const {
+    return compute_constraint_force(constraint_nodes, constraint_coef, constraint_weight, constraint_rest, node_iter, c);
+  }
+};
+
+/// Global step at node n: one Jacobi update of (M/h² + Σ w AᵀA) x = M s/h² + Σ w Aᵀ p,
+///   x̂ = x + (m/h² (s − x) + Σ_c k_{c,n} f_c) / D_n,
+/// then Chebyshev's x⁽ᵏ⁺¹⁾ = ω (γ (x̂ − x⁽ᵏ⁾) + x⁽ᵏ⁾ − x⁽ᵏ⁻¹⁾) + x⁽ᵏ⁻¹⁾ (Wang 2015, eq. 12 with
+/// under-relaxation γ). Pinned nodes stay. A node with no mass and no constraint follows s.
+/// `Forces` gives f_c: `StoredForces` or `ComputedForces`.
+template <class Forces>
+struct jacobi_chebyshev_update {
+  const index_t* node_slot_offset;
+  const index_t* node_slots;
+  const float* constraint_coef;
+  Forces force;
   const float* node_mass;
   const float* node_diag;
   const std::uint8_t* node_pinned;
@@ -140,9 +118,7 @@ struct jacobi_chebyshev_fused {
     Vec3f g = (node_mass[n] * inv_h2) * (s - x);
     for (index_t i = node_slot_offset[n]; i < node_slot_offset[n + 1]; ++i) {
       const index_t slot = node_slots[i];
-      const Vec3f f = compute_constraint_force(constraint_nodes, constraint_coef, constraint_weight, constraint_rest, node_iter,
-                                       slot / pd_constraint_nodes);
-      g = g + constraint_coef[slot] * f;
+      g = g + constraint_coef[slot] * force(slot / pd_constraint_nodes);
     }
     const Vec3f x_hat = x + (1.0f / diag) * g;
     const Vec3f x_prev = load3<float>(node_iter_prev, n);

@@ -179,7 +179,7 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
   constraint_coef_.resize(slot_count);
   constraint_weight_.resize(constraint_count_);
   constraint_rest_.resize(constraint_count_);
-  constraint_force_.resize(3 * static_cast<std::size_t>(constraint_count_));
+  if (!fused_) constraint_force_.resize(3 * static_cast<std::size_t>(constraint_count_));  // two passes only
   thrust::for_each(
       policy, zero, zero + edge_count,
       make_pd_constraints{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.edge_nodes),
@@ -240,33 +240,28 @@ void PdSolverOn<System>::enqueue_substep(const Policy& policy) {
   double omega = 1.0;
   for (int k = 0; k < options_.iterations; ++k) {
     omega = chebyshev_omega(k, cheb.delay, cheb.rho, omega);
+    // Global step: one Chebyshev-weighted Jacobi update per node (Wang 2015, §4), with the local
+    // step (every constraint's projection at the current iterate, §4.1) done in a pass of its own
+    // before it or by each node for its constraints.
+    const auto update = [&](auto forces) {
+      return jacobi_chebyshev_update<decltype(forces)>{
+          raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), raw<float>(constraint_coef_), forces,
+          raw<float>(node_mass_), raw<float>(node_diag_), raw<std::uint8_t>(node_pinned_), raw<float>(node_pred_),
+          raw<float>(node_iter_[cur]), raw<float>(node_iter_[prev]), inv_h2, static_cast<float>(omega), gamma,
+          raw<float>(node_iter_[next])};
+    };
     if (fused_) {
-      thrust::for_each(
-          policy, zero, zero + node_count_,
-          jacobi_chebyshev_fused{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), raw<index_t>(constraint_nodes_),
-                                 raw<float>(constraint_coef_), raw<float>(constraint_weight_), raw<float>(constraint_rest_),
-                                 raw<float>(node_mass_), raw<float>(node_diag_), raw<std::uint8_t>(node_pinned_),
-                                 raw<float>(node_pred_), raw<float>(node_iter_[cur]), raw<float>(node_iter_[prev]), inv_h2,
-                                 static_cast<float>(omega), gamma, raw<float>(node_iter_[next])});
-      const int old_prev = prev;
-      prev = cur;
-      cur = next;
-      next = old_prev;
-      continue;
+      thrust::for_each(policy, zero, zero + node_count_,
+                       update(ComputedForces{raw<index_t>(constraint_nodes_), raw<float>(constraint_coef_),
+                                             raw<float>(constraint_weight_), raw<float>(constraint_rest_),
+                                             raw<float>(node_iter_[cur])}));
+    } else {
+      thrust::for_each(policy, zero, zero + constraint_count_,
+                       project_constraints{raw<index_t>(constraint_nodes_), raw<float>(constraint_coef_),
+                                           raw<float>(constraint_weight_), raw<float>(constraint_rest_),
+                                           raw<float>(node_iter_[cur]), raw<float>(constraint_force_)});
+      thrust::for_each(policy, zero, zero + node_count_, update(StoredForces{raw<float>(constraint_force_)}));
     }
-    // Local step: every constraint's projection at the current iterate (§4.1).
-    thrust::for_each(policy, zero, zero + constraint_count_,
-                     project_constraints{raw<index_t>(constraint_nodes_), raw<float>(constraint_coef_),
-                                         raw<float>(constraint_weight_), raw<float>(constraint_rest_),
-                                         raw<float>(node_iter_[cur]), raw<float>(constraint_force_)});
-    // Global step: one Chebyshev-weighted Jacobi update per node (Wang 2015, §4).
-    thrust::for_each(
-        policy, zero, zero + node_count_,
-        jacobi_chebyshev_update{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_),
-                                raw<float>(constraint_coef_), raw<float>(constraint_force_), raw<float>(node_mass_),
-                                raw<float>(node_diag_), raw<std::uint8_t>(node_pinned_), raw<float>(node_pred_),
-                                raw<float>(node_iter_[cur]), raw<float>(node_iter_[prev]), inv_h2,
-                                static_cast<float>(omega), gamma, raw<float>(node_iter_[next])});
     const int old_prev = prev;
     prev = cur;
     cur = next;
