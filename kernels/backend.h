@@ -50,13 +50,39 @@ TEAR_HD inline int atomic_fetch_add(int* p, int v) {
 
 namespace tear::backend {
 
+/// A Thrust allocator `Base` with every allocation counted against `device` (`tear::memory_peak`).
+template <class T, class Base, Device device>
+struct CountingAllocator : Base {
+  using value_type = T;
+  using pointer = typename Base::pointer;
+  using size_type = typename Base::size_type;
+  template <class U>
+  struct rebind {
+    using other = CountingAllocator<U, typename Base::template rebind<U>::other, device>;
+  };
+  CountingAllocator() = default;
+  template <class U, class B>
+  CountingAllocator(const CountingAllocator<U, B, device>&) noexcept {}
+  pointer allocate(size_type n) {
+    pointer p = Base::allocate(n);
+    count_allocation(device, n * sizeof(T));
+    return p;
+  }
+  void deallocate(pointer p, size_type n) noexcept {
+    Base::deallocate(p, n);
+    count_release(device, n * sizeof(T));
+  }
+  bool operator==(const CountingAllocator&) const { return true; }
+  bool operator!=(const CountingAllocator&) const { return false; }
+};
+
 template <class System>
 struct Traits;
 
 template <>
 struct Traits<Omp> {
   template <class T>
-  using vector = thrust::omp::vector<T>;
+  using vector = thrust::omp::vector<T, CountingAllocator<T, thrust::omp::allocator<T>, Device::cpu>>;
   static auto policy() { return thrust::omp::par; }
   /// The policy for stages given a temporary allocator: on the CPU, Thrust's own (malloc is cheap,
   /// and the OpenMP algorithms may allocate from several threads at once, which the caching
@@ -66,42 +92,22 @@ struct Traits<Omp> {
     return thrust::omp::par;
   }
   static void synchronize() {}
-  static void* allocate_bytes(std::size_t n) { return std::malloc(n); }
-  static void free_bytes(void* p, std::size_t) { std::free(p); }
+  static void* allocate_bytes(std::size_t n) {
+    void* p = std::malloc(n);
+    if (p) count_allocation(Device::cpu, n);
+    return p;
+  }
+  static void free_bytes(void* p, std::size_t n) {
+    std::free(p);
+    count_release(Device::cpu, n);
+  }
 };
 
 #if TEAR_CUDA_SYSTEM
-/// Thrust's CUDA allocator, with every allocation counted (`device_memory_peak`).
-template <class T>
-struct CountingCudaAllocator : thrust::cuda::allocator<T> {
-  using base = thrust::cuda::allocator<T>;
-  using value_type = T;
-  using pointer = typename base::pointer;
-  using size_type = typename base::size_type;
-  template <class U>
-  struct rebind {
-    using other = CountingCudaAllocator<U>;
-  };
-  CountingCudaAllocator() = default;
-  template <class U>
-  CountingCudaAllocator(const CountingCudaAllocator<U>&) noexcept {}
-  pointer allocate(size_type n) {
-    pointer p = base::allocate(n);
-    count_device_allocation(n * sizeof(T));
-    return p;
-  }
-  void deallocate(pointer p, size_type n) noexcept {
-    base::deallocate(p, n);
-    count_device_release(n * sizeof(T));
-  }
-  bool operator==(const CountingCudaAllocator&) const { return true; }
-  bool operator!=(const CountingCudaAllocator&) const { return false; }
-};
-
 template <>
 struct Traits<Cuda> {
   template <class T>
-  using vector = thrust::cuda::vector<T, CountingCudaAllocator<T>>;
+  using vector = thrust::cuda::vector<T, CountingAllocator<T, thrust::cuda::allocator<T>, Device::cuda>>;
   // Stages queue on the default stream without waiting; reading a result back (a count, a total)
   // is what synchronises, so a cut waits only where it needs a number on the host.
   static auto policy() { return thrust::cuda::par_nosync; }
@@ -115,18 +121,28 @@ struct Traits<Cuda> {
   static void* allocate_bytes(std::size_t n) {
     void* p = nullptr;
     if (cudaMalloc(&p, n) != cudaSuccess) return nullptr;
-    count_device_allocation(n);
+    count_allocation(Device::cuda, n);
     return p;
   }
   static void free_bytes(void* p, std::size_t n) {
     cudaFree(p);
-    count_device_release(n);
+    count_release(Device::cuda, n);
   }
 };
 #endif
 
 template <class System, class T>
 using vector = typename Traits<System>::template vector<T>;
+
+/// Resizes `v` to `n` elements. When an allocated vector must grow, its capacity becomes n plus an
+/// eighth (Thrust's own resize would double it): a cloth grows a little with every cut, and its
+/// arrays should neither be reallocated every cut nor hold twice what they need. An empty one gets
+/// exactly n.
+template <class Vector>
+void resize_with_headroom(Vector& v, std::size_t n) {
+  if (n > v.capacity()) v.reserve(v.capacity() > 0 ? n + n / 8 : n);
+  v.resize(n);
+}
 
 template <class T, class Vector>
 T* raw(Vector& v) {

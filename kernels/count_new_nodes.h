@@ -67,7 +67,7 @@ struct CutSummary {
 struct summarize_cut {
   const std::uint8_t* edge_point;
   const std::uint8_t* edge_cut;
-  const index_t* face_new_count;
+  const index_t* face_new_offset;  ///< [face_count + 1]: a face's new nodes are the difference
   index_t edge_count, face_count;
   TEAR_HD CutSummary operator()(index_t i) const {
     CutSummary s;
@@ -75,7 +75,7 @@ struct summarize_cut {
       s.edge_points = edge_point[i] == edge_point_inside ? 1 : 0;
       s.cut_edges = edge_cut[i] ? 1 : 0;
     }
-    if (i < face_count) s.face_points = face_new_count[i] ? 1 : 0;
+    if (i < face_count) s.face_points = face_new_offset[i + 1] != face_new_offset[i] ? 1 : 0;
     return s;
   }
 };

@@ -1,12 +1,15 @@
-// tear: the account of the GPU memory the library holds, kept by the CUDA backend's allocators.
+// tear: the account of the memory the library's arrays hold on each backend, kept by the backends'
+// allocators (tear::memory_in_use).
 #pragma once
 
 #include <cstddef>
 
+#include "tear/device.h"
+
 namespace tear::backend {
 
-/// Records an allocation or a release of `bytes` of GPU memory (thread-safe).
-void count_device_allocation(std::size_t bytes);
-void count_device_release(std::size_t bytes);
+/// Records an allocation or a release of `bytes` on `device` (thread-safe).
+void count_allocation(Device device, std::size_t bytes);
+void count_release(Device device, std::size_t bytes);
 
 }  // namespace tear::backend

@@ -11,10 +11,9 @@ struct map_node_copies {
   SectorMesh mesh;
   const index_t* face_tri_offset;
   const index_t* node_new_offset;
-  const index_t* node_new_count;
   index_t* new_face_nodes;
   TEAR_HD void operator()(index_t n) const {
-    assign_copies a{face_tri_offset, new_face_nodes, node_new_offset[n], node_new_count[n]};
+    assign_copies a{face_tri_offset, new_face_nodes, node_new_offset[n], (node_new_offset[n + 1] - node_new_offset[n])};
     walk_node(mesh, n, a);
   }
 };
@@ -23,11 +22,10 @@ struct map_edge_copies {
   SectorMesh mesh;
   const index_t* face_tri_offset;
   const index_t* edge_new_offset;  ///< already past the node copies
-  const index_t* edge_new_count;
   index_t* new_face_nodes;
   TEAR_HD void operator()(index_t e) const {
-    if (!edge_new_count[e]) return;
-    assign_copies a{face_tri_offset, new_face_nodes, edge_new_offset[e], edge_new_count[e]};
+    if (!(edge_new_offset[e + 1] - edge_new_offset[e])) return;
+    assign_copies a{face_tri_offset, new_face_nodes, edge_new_offset[e], (edge_new_offset[e + 1] - edge_new_offset[e])};
     walk_edge_point(mesh, e, a);
   }
 };
@@ -36,11 +34,10 @@ struct map_face_copies {
   SectorMesh mesh;
   const index_t* face_tri_offset;
   const index_t* face_new_offset;  ///< already past the node and edge copies
-  const index_t* face_new_count;
   index_t* new_face_nodes;
   TEAR_HD void operator()(index_t f) const {
-    if (!face_new_count[f]) return;
-    assign_copies a{face_tri_offset, new_face_nodes, face_new_offset[f], face_new_count[f]};
+    if (!(face_new_offset[f + 1] - face_new_offset[f])) return;
+    assign_copies a{face_tri_offset, new_face_nodes, face_new_offset[f], (face_new_offset[f + 1] - face_new_offset[f])};
     walk_face_point(mesh, f, a);
   }
 };

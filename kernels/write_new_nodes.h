@@ -24,9 +24,8 @@ struct NodeSources {
 
 struct write_node_sources {
   const index_t* node_new_offset;
-  const index_t* node_new_count;
   NodeSources out;
-  TEAR_HD void operator()(index_t n) const { out.write(node_new_offset[n], node_new_count[n], n, -1, -1, 1.f, 0.f, 0.f); }
+  TEAR_HD void operator()(index_t n) const { out.write(node_new_offset[n], (node_new_offset[n + 1] - node_new_offset[n]), n, -1, -1, 1.f, 0.f, 0.f); }
 };
 
 /// An edge's copies sit at its cut point, linear between its nodes.
@@ -34,11 +33,10 @@ struct write_edge_sources {
   const index_t* edge_nodes;
   const float* edge_point_t;
   const index_t* edge_new_offset;
-  const index_t* edge_new_count;
   NodeSources out;
   TEAR_HD void operator()(index_t e) const {
     const float t = edge_point_t[e];
-    out.write(edge_new_offset[e], edge_new_count[e], edge_nodes[2 * e], edge_nodes[2 * e + 1], -1, 1.f - t, t, 0.f);
+    out.write(edge_new_offset[e], (edge_new_offset[e + 1] - edge_new_offset[e]), edge_nodes[2 * e], edge_nodes[2 * e + 1], -1, 1.f - t, t, 0.f);
   }
 };
 
@@ -47,10 +45,9 @@ struct write_face_sources {
   const index_t* face_nodes;
   const float* face_point_bary;
   const index_t* face_new_offset;
-  const index_t* face_new_count;
   NodeSources out;
   TEAR_HD void operator()(index_t f) const {
-    out.write(face_new_offset[f], face_new_count[f], face_nodes[3 * f], face_nodes[3 * f + 1], face_nodes[3 * f + 2],
+    out.write(face_new_offset[f], (face_new_offset[f + 1] - face_new_offset[f]), face_nodes[3 * f], face_nodes[3 * f + 1], face_nodes[3 * f + 2],
               face_point_bary[3 * f], face_point_bary[3 * f + 1], face_point_bary[3 * f + 2]);
   }
 };

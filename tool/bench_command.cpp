@@ -28,10 +28,7 @@ double mib(std::size_t bytes) { return double(bytes) / (1 << 20); }
 void print_remesh_row(const BenchRow& r, const BenchRow* cpu) {
   std::printf("%10d  %-4s  %10.3f  %12.3e", r.faces, to_string(r.device), r.remesh_ms, r.faces_per_s);
   for (double ms : r.stage_ms) std::printf("  %8.3f", ms);
-  if (r.device == Device::cuda)
-    std::printf("  %9.1f  %7.0f", mib(r.peak_device_bytes), double(r.peak_device_bytes) / r.faces);
-  else
-    std::printf("  %9s  %7s", "-", "-");
+  std::printf("  %9.1f  %7.0f", mib(r.peak_bytes), double(r.peak_bytes) / r.faces);
   if (cpu && r.remesh_ms > 0) std::printf("  %8.1fx", cpu->remesh_ms / r.remesh_ms);
   std::printf("\n");
 }
@@ -39,10 +36,7 @@ void print_remesh_row(const BenchRow& r, const BenchRow* cpu) {
 void print_pd_row(const PdBenchRow& r, const PdBenchRow* cpu) {
   std::printf("%10d  %9d  %-4s  %9.3f  %10.4f  %12.3e  %9.1f  %9.3f", r.faces, r.nodes, to_string(r.device), r.step_ms,
               r.iteration_ms, r.node_iterations_per_s, double(r.bytes_per_iteration) / r.nodes, r.floor_ms);
-  if (r.device == Device::cuda)
-    std::printf("  %9.1f", mib(r.peak_device_bytes));
-  else
-    std::printf("  %9s", "-");
+  std::printf("  %9.1f", mib(r.peak_bytes));
   if (cpu && r.step_ms > 0) std::printf("  %8.1fx", cpu->step_ms / r.step_ms);
   std::printf("\n");
 }

@@ -43,8 +43,8 @@ std::vector<BenchRow> run_remesh_bench(const BenchOptions& options, Device devic
     std::vector<std::vector<double>> stages(static_cast<int>(CutStage::count));
     std::size_t peak = 0;
     for (int run = 0; run < options.warmup + 2 * options.repeats; ++run) {
-      reset_device_memory_peak();
-      const std::size_t before = device_memory_in_use();
+      reset_memory_peak(device);
+      const std::size_t before = memory_in_use(device);
       Cloth cloth(mesh, device);  // a fresh cloth each time: cutting a torn cloth again is a no-op
       CutOptions cut_options;
       const bool timed = run >= options.warmup, staged = timed && (run - options.warmup) % 2 == 1;
@@ -52,7 +52,7 @@ std::vector<BenchRow> run_remesh_bench(const BenchOptions& options, Device devic
       const CutStats stats = cloth.cut(cut, cut_options);
       row.nodes_after = stats.nodes_after;
       row.faces_after = stats.faces_after;
-      if (device == Device::cuda) peak = std::max(peak, device_memory_peak() - before);
+      peak = std::max(peak, memory_peak(device) - before);
       if (!timed) continue;
       if (staged)
         for (std::size_t s = 0; s < stages.size(); ++s) stages[s].push_back(stats.stage_ms[s]);
@@ -62,7 +62,7 @@ std::vector<BenchRow> run_remesh_bench(const BenchOptions& options, Device devic
     row.remesh_ms = median(totals);
     for (std::size_t s = 0; s < stages.size(); ++s) row.stage_ms[s] = median(stages[s]);
     row.faces_per_s = row.remesh_ms > 0 ? faces / (row.remesh_ms * 1e-3) : 0;
-    row.peak_device_bytes = peak;
+    row.peak_bytes = peak;
     rows.push_back(row);
   }
   return rows;
@@ -89,8 +89,8 @@ std::vector<PdBenchRow> run_pd_bench(const BenchOptions& options, Device device,
     top.min = {-1, 1 - 1e-6, -1};
     top.max = {2, 1 + 1e-6, 1};
     sim.pins = {top};
-    reset_device_memory_peak();
-    const std::size_t before = device_memory_in_use();
+    reset_memory_peak(device);
+    const std::size_t before = memory_in_use(device);
     PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), sim, device);
     std::vector<double> times;
     for (int run = 0; run < options.warmup + options.repeats; ++run) {
@@ -112,7 +112,7 @@ std::vector<PdBenchRow> run_pd_bench(const BenchOptions& options, Device device,
     row.node_iterations_per_s = row.step_ms > 0 ? double(row.nodes) * sim.iterations / (row.step_ms * 1e-3) : 0;
     row.bytes_per_iteration = solver.bytes_per_iteration();
     row.floor_ms = copy_bandwidth > 0 ? 1e3 * double(row.bytes_per_iteration) * sim.iterations / copy_bandwidth : 0;
-    if (device == Device::cuda) row.peak_device_bytes = device_memory_peak() - before;
+    row.peak_bytes = memory_peak(device) - before;
     rows.push_back(row);
   }
   return rows;
@@ -171,7 +171,7 @@ nlohmann::json to_json(const PdBenchRow& row) {
           {"node_iterations_per_s", row.node_iterations_per_s},
           {"bytes_per_iteration", row.bytes_per_iteration},
           {"floor_ms", row.floor_ms},
-          {"peak_device_bytes", row.peak_device_bytes}};
+          {"peak_bytes", row.peak_bytes}};
 }
 
 nlohmann::json to_json(const SceneBenchRow& row) {
@@ -189,7 +189,7 @@ nlohmann::json to_json(const BenchRow& row) {
   return {{"faces", row.faces},           {"device", to_string(row.device)}, {"device_name", row.device_name},
           {"remesh_ms", row.remesh_ms},   {"stage_ms", stages},              {"faces_per_s", row.faces_per_s},
           {"nodes_after", row.nodes_after}, {"faces_after", row.faces_after},
-          {"peak_device_bytes", row.peak_device_bytes}};
+          {"peak_bytes", row.peak_bytes}};
 }
 
 }  // namespace tear

@@ -27,13 +27,13 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
   // Node→faces: corners counted per node, the counts scanned into offsets, each corner's face put
   // in its node's run, each run sorted (faces ascending).
   auto& node_tally = scratch.node_tally;
-  node_tally.resize(nodes_and_end);
+  resize_with_headroom(node_tally, nodes_and_end);
   thrust::fill(policy, node_tally.begin(), node_tally.end(), 0);
   thrust::for_each(policy, zero, zero + half_count, count_node_corners{raw<index_t>(face_nodes), raw<index_t>(node_tally)});
-  topo.node_face_offset.resize(nodes_and_end);
+  resize_with_headroom(topo.node_face_offset, nodes_and_end);
   thrust::exclusive_scan(policy, node_tally.begin(), node_tally.end(), topo.node_face_offset.begin());
   thrust::copy(policy, topo.node_face_offset.begin(), topo.node_face_offset.end(), node_tally.begin());  // cursors
-  topo.node_faces.resize(half_count);
+  resize_with_headroom(topo.node_faces, half_count);
   thrust::for_each(policy, zero, zero + half_count,
                    fill_node_faces{raw<index_t>(face_nodes), raw<index_t>(node_tally), raw<index_t>(topo.node_faces)});
   thrust::for_each(policy, zero, zero + node_count,
@@ -46,25 +46,25 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
                                     raw<index_t>(topo.node_faces), raw<index_t>(node_tally)});
   node_tally[node_count] = 0;
   auto& node_edge_offset = scratch.node_edge_offset;
-  node_edge_offset.resize(nodes_and_end);
+  resize_with_headroom(node_edge_offset, nodes_and_end);
   thrust::exclusive_scan(policy, node_tally.begin(), node_tally.end(), node_edge_offset.begin());
   const index_t edge_count = node_edge_offset[node_count];
   topo.edge_count = edge_count;
-  topo.edge_nodes.resize(2 * static_cast<std::size_t>(edge_count));
-  topo.edge_faces.resize(2 * static_cast<std::size_t>(edge_count));
-  topo.edge_face_count.resize(edge_count);
-  topo.edge_boundary.resize(edge_count);
+  resize_with_headroom(topo.edge_nodes, 2 * static_cast<std::size_t>(edge_count));
+  resize_with_headroom(topo.edge_faces, 2 * static_cast<std::size_t>(edge_count));
+  resize_with_headroom(topo.edge_face_count, edge_count);
+  resize_with_headroom(topo.edge_boundary, edge_count);
   thrust::for_each(policy, zero, zero + node_count,
                    write_node_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
                                     raw<index_t>(topo.node_faces), raw<index_t>(node_edge_offset),
                                     raw<index_t>(topo.edge_nodes), raw<index_t>(topo.edge_faces),
                                     raw<index_t>(topo.edge_face_count), raw<std::uint8_t>(topo.edge_boundary)});
-  topo.face_edges.resize(half_count);
+  resize_with_headroom(topo.face_edges, half_count);
   thrust::for_each(policy, zero, zero + half_count,
                    write_face_edges{raw<index_t>(face_nodes), raw<index_t>(node_edge_offset),
                                     raw<index_t>(topo.edge_nodes), raw<index_t>(topo.face_edges)});
 
-  topo.node_boundary.resize(node_count);
+  resize_with_headroom(topo.node_boundary, node_count);
   thrust::for_each(policy, zero, zero + node_count,
                    flag_boundary_nodes{raw<index_t>(face_nodes), raw<index_t>(topo.face_edges), raw<index_t>(topo.node_face_offset),
                                        raw<index_t>(topo.node_faces), raw<std::uint8_t>(topo.edge_boundary), raw<std::uint8_t>(topo.node_boundary)});

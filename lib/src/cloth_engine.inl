@@ -133,7 +133,7 @@ class ClothEngine final : public Cloth::Engine {
   vec<float> edge_point_t_, face_point_bary_;
 
   // Counts and offsets (§2.2, §2.3): new nodes of nodes, edges and faces in one array.
-  vec<index_t> point_new_count_, point_new_offset_, face_new_face_count_, face_new_face_offset_;
+  vec<index_t> point_new_offset_, face_new_face_offset_;
 
   // The mesh being written, and the provenance of the last cut.
   vec<index_t> new_face_nodes_, face_parent_, node_source_;
@@ -195,21 +195,21 @@ void ClothEngine<System>::run_cut(const std::vector<CutLine>& cuts, const CutOpt
 
   // §2.1 cut points: every cut against every face, one averaged and snapped point per edge, then
   // the 6-bit face cut info (with the face point where lines cross) and the 2-bit edge cut info.
-  half_hit_sum_.resize(3 * std::size_t(f_count));
-  half_hit_count_.resize(3 * std::size_t(f_count));
-  face_pairs_.resize(f_count);
+  resize_with_headroom(half_hit_sum_, 3 * std::size_t(f_count));
+  resize_with_headroom(half_hit_count_, 3 * std::size_t(f_count));
+  resize_with_headroom(face_pairs_, f_count);
   for_each_index(f_count, intersect_cuts{raw<index_t>(face_nodes_), has_uv ? raw<float>(corner_uv_) : nullptr, raw<float>(node_rest_),
                                          raw<float>(node_pos_), raw<CutPath>(cut_paths_), static_cast<index_t>(cut_paths_.size()),
                                          raw<double>(cut_point_x_), raw<double>(cut_point_y_), raw<double>(half_hit_sum_),
                                          raw<index_t>(half_hit_count_), raw<std::uint16_t>(face_pairs_)});
   clock.mark<System>(CutStage::intersection);
-  edge_point_.resize(e_count);
-  edge_point_t_.resize(e_count);
+  resize_with_headroom(edge_point_, e_count);
+  resize_with_headroom(edge_point_t_, e_count);
   for_each_index(e_count, snap_edge_points{raw<index_t>(topo_.edge_faces), raw<index_t>(topo_.face_edges), raw<double>(half_hit_sum_),
                                            raw<index_t>(half_hit_count_), options.snap, raw<float>(edge_point_t_), raw<std::uint8_t>(edge_point_)});
-  face_state_.resize(f_count);
-  face_along_.resize(f_count);
-  face_point_bary_.resize(3 * std::size_t(f_count));
+  resize_with_headroom(face_state_, f_count);
+  resize_with_headroom(face_along_, f_count);
+  resize_with_headroom(face_point_bary_, 3 * std::size_t(f_count));
   const face_cut_info face_info{raw<index_t>(face_nodes_), raw<index_t>(topo_.face_edges), raw<std::uint16_t>(face_pairs_),
                                 raw<std::uint8_t>(edge_point_), raw<float>(edge_point_t_), raw<std::uint16_t>(face_state_),
                                 raw<std::uint8_t>(face_along_), raw<float>(face_point_bary_),
@@ -218,7 +218,7 @@ void ClothEngine<System>::run_cut(const std::vector<CutLine>& cuts, const CutOpt
   // Points that would leave a triangle sharper than the quality angle move onto their nearer node
   // (within the quality snap distance), and the faces are resolved again. Two passes: a snap can
   // change the split of the face across the edge. `snap` 0 asks for exact cut points: no snapping.
-  face_snap_edge_.resize(f_count);
+  resize_with_headroom(face_snap_edge_, f_count);
   const double max_cosine = std::cos(options.quality_angle_deg * 3.14159265358979323846 / 180.0);
   const double quality_limit = std::min(options.quality_snap, 0.5);
   for (int pass = 0; pass < 2 && options.quality_angle_deg > 0 && options.snap > 0; ++pass) {
@@ -229,7 +229,7 @@ void ClothEngine<System>::run_cut(const std::vector<CutLine>& cuts, const CutOpt
                                                 raw<std::uint8_t>(edge_point_), raw<float>(edge_point_t_)});
     for_each_index(f_count, face_info);
   }
-  edge_cut_.resize(e_count);
+  resize_with_headroom(edge_cut_, e_count);
   for_each_index(e_count, edge_cut_info{raw<index_t>(face_nodes_), raw<index_t>(topo_.edge_faces), raw<index_t>(topo_.edge_nodes),
                                         raw<index_t>(topo_.face_edges), raw<std::uint8_t>(face_along_), raw<std::uint8_t>(edge_cut_)});
   // Cut points no line uses are dropped, so they split no face.
@@ -243,30 +243,30 @@ void ClothEngine<System>::run_cut(const std::vector<CutLine>& cuts, const CutOpt
   // the three, so node copies come first, then edge points', then face points'.
   const SectorMesh sectors = sector_mesh();
   const std::size_t point_count = std::size_t(n_count) + e_count + f_count;
-  point_new_count_.resize(point_count + 1);
-  point_new_offset_.resize(point_count + 1);
-  index_t* node_new_count = raw<index_t>(point_new_count_);
+  // The counts are written where their offsets go and scanned in place; later stages take a
+  // point's count as the difference of consecutive offsets.
+  resize_with_headroom(point_new_offset_, point_count + 1);
+  index_t* node_new_count = raw<index_t>(point_new_offset_);
   index_t* edge_new_count = node_new_count + n_count;
   index_t* face_new_count = edge_new_count + e_count;
   for_each_index(n_count, count_node_copies{sectors, node_new_count});
   for_each_index(e_count, count_edge_copies{sectors, raw<std::uint8_t>(edge_point_), edge_new_count});
   for_each_index(f_count, count_face_copies{sectors, face_new_count});
-  thrust::fill(policy, point_new_count_.begin() + point_count, point_new_count_.end(), 0);
-  thrust::exclusive_scan(policy, point_new_count_.begin(), point_new_count_.end(), point_new_offset_.begin());
+  thrust::fill(policy, point_new_offset_.begin() + point_count, point_new_offset_.end(), 0);
+  thrust::exclusive_scan(policy, point_new_offset_.begin(), point_new_offset_.end(), point_new_offset_.begin());
 
   // §2.3 new faces: count from the split table, exclusive scan.
-  face_new_face_count_.resize(std::size_t(f_count) + 1);
-  face_new_face_offset_.resize(std::size_t(f_count) + 1);
-  for_each_index(f_count, count_new_faces{raw<std::uint16_t>(face_state_), raw<SplitCase>(table_), raw<index_t>(face_new_face_count_)});
-  thrust::fill(policy, face_new_face_count_.begin() + f_count, face_new_face_count_.end(), 0);
-  thrust::exclusive_scan(policy, face_new_face_count_.begin(), face_new_face_count_.end(), face_new_face_offset_.begin());
+  resize_with_headroom(face_new_face_offset_, std::size_t(f_count) + 1);  // counts, scanned in place
+  for_each_index(f_count, count_new_faces{raw<std::uint16_t>(face_state_), raw<SplitCase>(table_), raw<index_t>(face_new_face_offset_)});
+  thrust::fill(policy, face_new_face_offset_.begin() + f_count, face_new_face_offset_.end(), 0);
+  thrust::exclusive_scan(policy, face_new_face_offset_.begin(), face_new_face_offset_.end(), face_new_face_offset_.begin());
 
   const index_t new_node_count = point_new_offset_.back();
   const index_t new_face_count = face_new_face_offset_.back();
   thrust::counting_iterator<index_t> zero(0);
   const CutSummary summary = thrust::transform_reduce(
       policy, zero, zero + std::max(e_count, f_count),
-      summarize_cut{raw<std::uint8_t>(edge_point_), raw<std::uint8_t>(edge_cut_), face_new_count, e_count, f_count}, CutSummary{},
+      summarize_cut{raw<std::uint8_t>(edge_point_), raw<std::uint8_t>(edge_cut_), raw<index_t>(point_new_offset_) + n_count + e_count, e_count, f_count}, CutSummary{},
       thrust::plus<CutSummary>());
   stats.edge_points = summary.edge_points;
   stats.cut_edges = summary.cut_edges;
@@ -275,26 +275,26 @@ void ClothEngine<System>::run_cut(const std::vector<CutLine>& cuts, const CutOpt
   if (new_node_count == n_count && new_face_count == f_count) return;  // the cuts split nothing
 
   // §2.2 write: provenance of every new node, then its state gathered from its sources.
-  node_source_.resize(3 * std::size_t(new_node_count));
-  node_source_weight_.resize(3 * std::size_t(new_node_count));
+  resize_with_headroom(node_source_, 3 * std::size_t(new_node_count));
+  resize_with_headroom(node_source_weight_, 3 * std::size_t(new_node_count));
   const NodeSources sources{raw<index_t>(node_source_), raw<float>(node_source_weight_)};
   const index_t* node_new_offset = raw<index_t>(point_new_offset_);
   const index_t* edge_new_offset = node_new_offset + n_count;
   const index_t* face_new_offset = edge_new_offset + e_count;
-  for_each_index(n_count, write_node_sources{node_new_offset, node_new_count, sources});
-  for_each_index(e_count, write_edge_sources{raw<index_t>(topo_.edge_nodes), raw<float>(edge_point_t_), edge_new_offset, edge_new_count, sources});
-  for_each_index(f_count, write_face_sources{raw<index_t>(face_nodes_), raw<float>(face_point_bary_), face_new_offset, face_new_count, sources});
-  new_node_pos_.resize(3 * std::size_t(new_node_count));
-  new_node_rest_.resize(3 * std::size_t(new_node_count));
-  new_node_vel_.resize(3 * std::size_t(new_node_count));
+  for_each_index(n_count, write_node_sources{node_new_offset, sources});
+  for_each_index(e_count, write_edge_sources{raw<index_t>(topo_.edge_nodes), raw<float>(edge_point_t_), edge_new_offset, sources});
+  for_each_index(f_count, write_face_sources{raw<index_t>(face_nodes_), raw<float>(face_point_bary_), face_new_offset, sources});
+  resize_with_headroom(new_node_pos_, 3 * std::size_t(new_node_count));
+  resize_with_headroom(new_node_rest_, 3 * std::size_t(new_node_count));
+  resize_with_headroom(new_node_vel_, 3 * std::size_t(new_node_count));
   for (auto [from, to] : {std::pair{&node_pos_, &new_node_pos_}, std::pair{&node_rest_, &new_node_rest_}, std::pair{&node_vel_, &new_node_vel_}})
     for_each_index(new_node_count, interpolate_nodes{raw<index_t>(node_source_), raw<float>(node_source_weight_), raw<float>(*from), raw<float>(*to)});
   clock.mark<System>(CutStage::node_write);
 
   // §2.3 write: parents and per-corner attributes of the new faces.
-  face_parent_.resize(new_face_count);
-  new_corner_uv_.resize(has_uv ? 6 * std::size_t(new_face_count) : 0);
-  new_corner_normal_.resize(has_normal ? 9 * std::size_t(new_face_count) : 0);
+  resize_with_headroom(face_parent_, new_face_count);
+  resize_with_headroom(new_corner_uv_, has_uv ? 6 * std::size_t(new_face_count) : 0);
+  resize_with_headroom(new_corner_normal_, has_normal ? 9 * std::size_t(new_face_count) : 0);
   for_each_index(f_count, write_new_faces{raw<index_t>(face_nodes_), raw<index_t>(topo_.face_edges), raw<std::uint16_t>(face_state_),
                                           raw<SplitCase>(table_), raw<float>(edge_point_t_), raw<float>(face_point_bary_),
                                           raw<index_t>(face_new_face_offset_), has_uv ? raw<float>(corner_uv_) : nullptr,
@@ -303,11 +303,11 @@ void ClothEngine<System>::run_cut(const std::vector<CutLine>& cuts, const CutOpt
   clock.mark<System>(CutStage::face_write);
 
   // §2.4 node mapping: every point walks its new triangles and hands out its copies.
-  new_face_nodes_.resize(3 * std::size_t(new_face_count));
+  resize_with_headroom(new_face_nodes_, 3 * std::size_t(new_face_count));
   const index_t* face_tri_offset = raw<index_t>(face_new_face_offset_);
-  for_each_index(n_count, map_node_copies{sectors, face_tri_offset, node_new_offset, node_new_count, raw<index_t>(new_face_nodes_)});
-  for_each_index(e_count, map_edge_copies{sectors, face_tri_offset, edge_new_offset, edge_new_count, raw<index_t>(new_face_nodes_)});
-  for_each_index(f_count, map_face_copies{sectors, face_tri_offset, face_new_offset, face_new_count, raw<index_t>(new_face_nodes_)});
+  for_each_index(n_count, map_node_copies{sectors, face_tri_offset, node_new_offset, raw<index_t>(new_face_nodes_)});
+  for_each_index(e_count, map_edge_copies{sectors, face_tri_offset, edge_new_offset, raw<index_t>(new_face_nodes_)});
+  for_each_index(f_count, map_face_copies{sectors, face_tri_offset, face_new_offset, raw<index_t>(new_face_nodes_)});
   clock.mark<System>(CutStage::node_mapping);
 
   // The new mesh replaces the old; §2.4 adjacency rebuilt from the new faces.

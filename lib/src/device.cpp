@@ -58,22 +58,27 @@ Device select_device(const std::string& spec) {
 }
 
 namespace {
-std::atomic<std::size_t> device_bytes{0}, device_bytes_peak{0};
+struct MemoryAccount {
+  std::atomic<std::size_t> in_use{0}, peak{0};
+};
+MemoryAccount accounts[2];  // by Device
+MemoryAccount& account(Device device) { return accounts[device == Device::cuda ? 1 : 0]; }
 }  // namespace
 
 namespace backend {
-void count_device_allocation(std::size_t bytes) {
-  const std::size_t now = device_bytes.fetch_add(bytes) + bytes;
-  std::size_t peak = device_bytes_peak.load();
-  while (now > peak && !device_bytes_peak.compare_exchange_weak(peak, now)) {
+void count_allocation(Device device, std::size_t bytes) {
+  MemoryAccount& a = account(device);
+  const std::size_t now = a.in_use.fetch_add(bytes) + bytes;
+  std::size_t peak = a.peak.load();
+  while (now > peak && !a.peak.compare_exchange_weak(peak, now)) {
   }
 }
-void count_device_release(std::size_t bytes) { device_bytes.fetch_sub(bytes); }
+void count_release(Device device, std::size_t bytes) { account(device).in_use.fetch_sub(bytes); }
 }  // namespace backend
 
-std::size_t device_memory_in_use() { return device_bytes.load(); }
-std::size_t device_memory_peak() { return device_bytes_peak.load(); }
-void reset_device_memory_peak() { device_bytes_peak.store(device_bytes.load()); }
+std::size_t memory_in_use(Device device) { return account(device).in_use.load(); }
+std::size_t memory_peak(Device device) { return account(device).peak.load(); }
+void reset_memory_peak(Device device) { account(device).peak.store(account(device).in_use.load()); }
 
 void synchronize(Device device) {
 #if TEAR_WITH_CUDA

@@ -35,8 +35,8 @@ struct BenchRow {
   std::array<double, static_cast<int>(CutStage::count)> stage_ms{};  ///< with a sync after each stage
   double faces_per_s = 0;  ///< faces of the input sheet over remesh_ms
   index_t nodes_after = 0, faces_after = 0;
-  /// Most GPU memory held during a cut, the cloth's arrays and scratch included (0 on the CPU).
-  std::size_t peak_device_bytes = 0;
+  /// Most memory held during a cut, the cloth's arrays and scratch included (`memory_peak`).
+  std::size_t peak_bytes = 0;
 };
 
 /// The solver on one size and backend: one step of `iterations` iterations (one substep) of a sheet
@@ -51,7 +51,7 @@ struct PdBenchRow {
   double node_iterations_per_s = 0;   ///< nodes × iterations / step time
   std::size_t bytes_per_iteration = 0;  ///< `PdSolver::bytes_per_iteration`
   double floor_ms = 0;                ///< iterations × bytes_per_iteration at the measured copy bandwidth
-  std::size_t peak_device_bytes = 0;  ///< most GPU memory held while building and stepping (0 on the CPU)
+  std::size_t peak_bytes = 0;  ///< most memory held while building and stepping (`memory_peak`)
 };
 
 /// The paper's scene (`demo_script` at one resolution) run in memory with `iterations` solver

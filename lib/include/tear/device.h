@@ -30,11 +30,13 @@ std::string device_name(Device device);
 /// Waits until the work queued on `device` is done (the CUDA backend queues without waiting).
 void synchronize(Device device);
 
-/// GPU memory held by tear (arrays and cached scratch buffers) now, and the most held since the
-/// last `reset_device_memory_peak`, in bytes. Memory on the CPU backend is not counted (0).
-std::size_t device_memory_in_use();
-std::size_t device_memory_peak();
+/// Memory held by tear's arrays on a backend now, and the most held since the last
+/// `reset_memory_peak`, in bytes: GPU memory for Device::cuda (arrays and cached scratch buffers);
+/// host memory of the CPU backend's arrays for Device::cpu (without Thrust's short-lived scratch
+/// buffers of scans and sorts, which it allocates for itself there).
+std::size_t memory_in_use(Device device);
+std::size_t memory_peak(Device device);
 /// Starts a new peak from the memory in use now.
-void reset_device_memory_peak();
+void reset_memory_peak(Device device);
 
 }  // namespace tear
