@@ -44,7 +44,7 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
   thrust::for_each(policy, zero, zero + node_count,
                    count_node_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
                                     raw<index_t>(topo.node_faces), raw<index_t>(node_tally)});
-  node_tally[node_count] = 0;
+  thrust::fill(policy, node_tally.begin() + node_count, node_tally.end(), 0);  // a launch, not a host write
   auto& node_edge_offset = scratch.node_edge_offset;
   resize_with_headroom(node_edge_offset, nodes_and_end);
   thrust::exclusive_scan(policy, node_tally.begin(), node_tally.end(), node_edge_offset.begin());
