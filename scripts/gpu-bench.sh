@@ -3,7 +3,8 @@
 # on the default sizes with the CPU backend alongside, then the solver and the scene again with
 # CUDA graphs off (TEAR_CUDA_GRAPHS=0) and with the two-pass iteration (TEAR_PD_ITERATION=split),
 # for the ratios. Output and JSON go to LOG_DIR.
-#   scripts/gpu-bench.sh [LOG_DIR] [BUILD_DIR] [extra tear bench options...]
+#   [REPEATS=K] scripts/gpu-bench.sh [LOG_DIR] [BUILD_DIR] [extra tear bench options...]
+# REPEATS (default 5) is --repeats; the extra options must not repeat --repeats, --only or --json.
 set -uo pipefail
 log_dir=${1:-gpu-logs}
 build_dir=${2:-build-gpu}
@@ -13,8 +14,8 @@ tear="$build_dir/tear"
 nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm,clocks.max.mem --format=csv > "$log_dir/machine.txt" 2>&1
 git rev-parse --short HEAD >> "$log_dir/machine.txt" 2>/dev/null
 date -u >> "$log_dir/machine.txt"
-"$tear" bench --repeats 5 --json "$log_dir/bench.json" "$@" 2>&1 | tee "$log_dir/bench.txt"
-TEAR_CUDA_GRAPHS=0 "$tear" bench --repeats 5 --only pd,scene --no-cpu --json "$log_dir/bench-no-graphs.json" "$@" 2>&1 |
+"$tear" bench --repeats "${REPEATS:-5}" --json "$log_dir/bench.json" "$@" 2>&1 | tee "$log_dir/bench.txt"
+TEAR_CUDA_GRAPHS=0 "$tear" bench --repeats "${REPEATS:-5}" --only pd,scene --no-cpu --json "$log_dir/bench-no-graphs.json" "$@" 2>&1 |
   tee "$log_dir/bench-no-graphs.txt"
-TEAR_PD_ITERATION=split "$tear" bench --repeats 5 --only pd,scene --no-cpu --json "$log_dir/bench-split.json" "$@" 2>&1 |
+TEAR_PD_ITERATION=split "$tear" bench --repeats "${REPEATS:-5}" --only pd,scene --no-cpu --json "$log_dir/bench-split.json" "$@" 2>&1 |
   tee "$log_dir/bench-split.txt"
