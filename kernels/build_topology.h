@@ -74,6 +74,52 @@ TEAR_HD inline index_t next_edge_end(const index_t* face_nodes, const index_t* n
   return best;
 }
 
+/// The edges whose lower node is n, gathered in one pass over its faces: higher ends ascending,
+/// each with its number of half-edges and its first two faces (faces ascending). Holds up to
+/// `capacity` edges; a node with more sets `overflow`, and the caller enumerates them with
+/// `next_edge_end` instead (slower: one pass over the faces per edge).
+struct NodeEdgeList {
+  static constexpr int capacity = 8;
+  int size = 0;
+  bool overflow = false;
+  index_t end[capacity], count[capacity], face[capacity][2];
+
+  TEAR_HD void gather(const index_t* face_nodes, const index_t* node_face_offset, const index_t* node_faces,
+                      index_t n) {
+    for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) {
+      const index_t f = node_faces[i];
+      if (i > node_face_offset[n] && node_faces[i - 1] == f) continue;  // a face repeating n, seen
+      for (int k = 0; k < 3; ++k) {
+        index_t lo, hi;
+        half_edge_nodes(face_nodes, f, k, lo, hi);
+        if (lo != n) continue;
+        int j = 0;
+        while (j < size && end[j] < hi) ++j;
+        if (j < size && end[j] == hi) {
+          if (count[j] < 2) face[j][count[j]] = f;
+          ++count[j];
+          continue;
+        }
+        if (size == capacity) {
+          overflow = true;
+          return;
+        }
+        for (int m = size; m > j; --m) {
+          end[m] = end[m - 1];
+          count[m] = count[m - 1];
+          face[m][0] = face[m - 1][0];
+          face[m][1] = face[m - 1][1];
+        }
+        end[j] = hi;
+        count[j] = 1;
+        face[j][0] = f;
+        face[j][1] = -1;
+        ++size;
+      }
+    }
+  }
+};
+
 /// Number of edges whose lower node is n: the distinct higher ends of its half-edges.
 struct count_node_edges {
   const index_t* face_nodes;
@@ -81,6 +127,12 @@ struct count_node_edges {
   const index_t* node_faces;
   index_t* node_edge_count;
   TEAR_HD void operator()(index_t n) const {
+    NodeEdgeList list;
+    list.gather(face_nodes, node_face_offset, node_faces, n);
+    if (!list.overflow) {
+      node_edge_count[n] = list.size;
+      return;
+    }
     index_t count = 0;
     for (index_t end = next_edge_end(face_nodes, node_face_offset, node_faces, n, -1); end >= 0;
          end = next_edge_end(face_nodes, node_face_offset, node_faces, n, end))
@@ -101,12 +153,25 @@ struct write_node_edges {
   index_t* edge_faces;
   index_t* edge_face_count;
   std::uint8_t* edge_boundary;
+  TEAR_HD void write(index_t e, index_t n, index_t end, index_t count, index_t face0, index_t face1) const {
+    edge_nodes[2 * e] = n;
+    edge_nodes[2 * e + 1] = end;
+    edge_face_count[e] = count;
+    edge_faces[2 * e] = face0;
+    edge_faces[2 * e + 1] = face1;
+    edge_boundary[e] = count == 1 ? 1 : 0;
+  }
+
   TEAR_HD void operator()(index_t n) const {
     index_t e = node_edge_offset[n];
+    NodeEdgeList list;
+    list.gather(face_nodes, node_face_offset, node_faces, n);
+    if (!list.overflow) {
+      for (int j = 0; j < list.size; ++j) write(e + j, n, list.end[j], list.count[j], list.face[j][0], list.face[j][1]);
+      return;
+    }
     for (index_t end = next_edge_end(face_nodes, node_face_offset, node_faces, n, -1); end >= 0;
          end = next_edge_end(face_nodes, node_face_offset, node_faces, n, end), ++e) {
-      edge_nodes[2 * e] = n;
-      edge_nodes[2 * e + 1] = end;
       index_t count = 0, faces[2] = {-1, -1};
       for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) {
         const index_t f = node_faces[i];
@@ -119,10 +184,7 @@ struct write_node_edges {
           ++count;
         }
       }
-      edge_face_count[e] = count;
-      edge_faces[2 * e] = faces[0];
-      edge_faces[2 * e + 1] = faces[1];
-      edge_boundary[e] = count == 1 ? 1 : 0;
+      write(e, n, end, count, faces[0], faces[1]);
     }
   }
 };

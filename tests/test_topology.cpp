@@ -1,3 +1,4 @@
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -194,6 +195,32 @@ TEST_CASE("topology: matches the serial reference on random meshes", "[topology]
                  << " faces)");
     const tear::Topology t = tear::build_topology(mesh, tear::test::test_device());
     REQUIRE(tear::test::topology_difference(t, tear::test::reference_topology(mesh)) == "");
+  }
+}
+
+TEST_CASE("topology: nodes of high valence match the serial reference", "[topology]") {
+  // A node's edges are gathered in a short list; a node with more edges than it holds is
+  // enumerated another way. Fans of 3 to 40 faces around node 0 (all its neighbours higher) and
+  // around the highest node (all lower), a fin of many faces on one edge, and a face repeating the
+  // centre.
+  for (int fan = 3; fan <= 40; fan += fan < 12 ? 1 : 7) {
+    for (const bool centre_first : {true, false}) {
+      std::vector<float> pos{0, 0, 0};
+      for (int i = 0; i < fan; ++i) {
+        const float a = 6.2831853f * i / fan;
+        pos.insert(pos.end(), {std::cos(a), std::sin(a), 0.0f});
+      }
+      const index_t n = static_cast<index_t>(pos.size() / 3);
+      const auto id = [&](index_t v) { return centre_first ? v : n - 1 - v; };
+      Indices faces;
+      for (index_t i = 0; i < fan; ++i) faces.insert(faces.end(), {id(0), id(1 + i), id(1 + (i + 1) % fan)});
+      for (index_t i = 0; i < fan / 3; ++i) faces.insert(faces.end(), {id(0), id(1), id(2 + i % (fan - 1))});  // fins
+      faces.insert(faces.end(), {id(0), id(0), id(1)});  // a face repeating the centre
+      const tear::Mesh mesh = make_mesh(pos, faces);
+      INFO("fan of " << fan << (centre_first ? ", centre first" : ", centre last"));
+      const tear::Topology t = tear::build_topology(mesh, tear::test::test_device());
+      CHECK(tear::test::topology_difference(t, tear::test::reference_topology(mesh)) == "");
+    }
   }
 }
 
