@@ -330,4 +330,25 @@ struct apply_quality_snaps {
   }
 };
 
+/// Per face: runs `face_cut_info` again on a face one of whose edge points `apply_quality_snaps`
+/// may have moved: one that asked for a snap itself, or whose neighbour across an edge asked for
+/// that edge. A face's cut info depends only on its own edges' points (and its crossings), so every
+/// other face keeps what it has, and the result is the same as resolving every face again.
+struct refresh_snapped_faces {
+  face_cut_info info;
+  const index_t* edge_faces;
+  const std::int8_t* face_snap_edge;
+  TEAR_HD void operator()(index_t f) const {
+    bool moved = face_snap_edge[f] >= 0;
+    for (int k = 0; k < 3 && !moved; ++k) {
+      const index_t e = info.face_edges[3 * f + k];
+      for (int side = 0; side < 2 && !moved; ++side) {
+        const index_t g = edge_faces[2 * e + side];
+        moved = g >= 0 && g != f && face_snap_edge[g] == local_edge_of(info.face_edges, g, e);
+      }
+    }
+    if (moved) info(f);
+  }
+};
+
 }  // namespace tear::kernels

@@ -216,8 +216,9 @@ void ClothEngine<System>::run_cut(const std::vector<CutLine>& cuts, const CutOpt
                                 raw<float>(node_rest_), raw<SplitCase>(table_)};
   for_each_index(f_count, face_info);
   // Points that would leave a triangle sharper than the quality angle move onto their nearer node
-  // (within the quality snap distance), and the faces are resolved again. Two passes: a snap can
-  // change the split of the face across the edge. `snap` 0 asks for exact cut points: no snapping.
+  // (within the quality snap distance), and the faces whose points may have moved are resolved
+  // again. Two passes: a snap can change the split of the face across the edge. `snap` 0 asks for
+  // exact cut points: no snapping.
   resize_with_headroom(face_snap_edge_, f_count);
   const double max_cosine = std::cos(options.quality_angle_deg * 3.14159265358979323846 / 180.0);
   const double quality_limit = std::min(options.quality_snap, 0.5);
@@ -227,7 +228,7 @@ void ClothEngine<System>::run_cut(const std::vector<CutLine>& cuts, const CutOpt
                                                   raw<SplitCase>(table_), max_cosine, quality_limit, raw<std::int8_t>(face_snap_edge_)});
     for_each_index(e_count, apply_quality_snaps{raw<index_t>(topo_.edge_faces), raw<index_t>(topo_.face_edges), raw<std::int8_t>(face_snap_edge_),
                                                 raw<std::uint8_t>(edge_point_), raw<float>(edge_point_t_)});
-    for_each_index(f_count, face_info);
+    for_each_index(f_count, refresh_snapped_faces{face_info, raw<index_t>(topo_.edge_faces), raw<std::int8_t>(face_snap_edge_)});
   }
   resize_with_headroom(edge_cut_, e_count);
   for_each_index(e_count, edge_cut_info{raw<index_t>(face_nodes_), raw<index_t>(topo_.edge_faces), raw<index_t>(topo_.edge_nodes),
