@@ -47,6 +47,42 @@ TEAR_HD inline index_t opposite_node(const index_t* face_nodes, index_t f, index
   return -1;
 }
 
+/// The constraints as the kernels see them. Constraint e < edge_count is the spring of edge e:
+/// nodes spring_nodes[2e], [2e + 1] with coefficients +1 and −1 (both nodes −1 when it has no
+/// weight). Constraint edge_count + e is the hinge of edge e: four nodes and coefficients (unused
+/// slots node −1, coefficient 0). A slot is one node of one constraint: slot s < 2 edge_count is
+/// node s % 2 of spring s / 2, slot 2 edge_count + 4 e + j node j of hinge e; slots are numbered in
+/// constraint order. A spring takes 16 bytes (nodes, weight, rest length), a hinge 40.
+struct PdConstraints {
+  index_t edge_count;
+  const index_t* spring_nodes;  // [edge_count * 2]
+  const float* spring_weight;   // [edge_count]
+  const float* spring_rest;     // [edge_count]
+  const index_t* hinge_nodes;   // [edge_count * 4]
+  const float* hinge_coef;      // [edge_count * 4]
+  const float* hinge_weight;    // [edge_count]
+  const float* hinge_rest;      // [edge_count]
+
+  TEAR_HD index_t slot_count() const { return 6 * edge_count; }
+  TEAR_HD index_t constraint_of_slot(index_t s) const {
+    return s < 2 * edge_count ? s / 2 : edge_count + (s - 2 * edge_count) / pd_constraint_nodes;
+  }
+  TEAR_HD index_t slot_node(index_t s) const {
+    return s < 2 * edge_count ? spring_nodes[s] : hinge_nodes[s - 2 * edge_count];
+  }
+  TEAR_HD float slot_coef(index_t s) const {
+    return s < 2 * edge_count ? (s % 2 ? -1.0f : 1.0f) : hinge_coef[s - 2 * edge_count];
+  }
+  TEAR_HD float weight(index_t c) const { return c < edge_count ? spring_weight[c] : hinge_weight[c - edge_count]; }
+  /// Σ |kⱼ| over the constraint's slots.
+  TEAR_HD float coef_abs_sum(index_t c) const {
+    if (c < edge_count) return 2.0f;
+    float sum = 0.0f;
+    for (int j = 0; j < pd_constraint_nodes; ++j) sum += fabsf(hinge_coef[pd_constraint_nodes * (c - edge_count) + j]);
+    return sum;
+  }
+};
+
 /// Constraint e: the spring of edge e, weight stretch_stiffness × A_e / L² (A_e: a third of the
 /// rest area of its faces), so the energy w/2 (|d| − L)² is stiffness/2 × strain² × A_e.
 /// Constraint edge_count + e: the hinge of interior edge e, weight bend_stiffness × 3 L² /
@@ -58,26 +94,24 @@ struct make_pd_constraints {
   const index_t* edge_faces;
   const index_t* edge_face_count;
   index_t edge_count;
-  double stretch_stiffness;   // N/m
-  double bend_stiffness;      // N·m
-  index_t* constraint_nodes;  // [2 edge_count * 4]
-  float* constraint_coef;     // [2 edge_count * 4]
-  float* constraint_weight;   // [2 edge_count]
-  float* constraint_rest;     // [2 edge_count]
-
-  TEAR_HD void clear(index_t c) const {
-    for (int j = 0; j < pd_constraint_nodes; ++j) {
-      constraint_nodes[pd_constraint_nodes * c + j] = -1;
-      constraint_coef[pd_constraint_nodes * c + j] = 0.0f;
-    }
-    constraint_weight[c] = 0.0f;
-    constraint_rest[c] = 0.0f;
-  }
+  double stretch_stiffness;  // N/m
+  double bend_stiffness;     // N·m
+  index_t* spring_nodes;     // [edge_count * 2]
+  float* spring_weight;      // [edge_count]
+  float* spring_rest;        // [edge_count]
+  index_t* hinge_nodes;      // [edge_count * 4]
+  float* hinge_coef;         // [edge_count * 4]
+  float* hinge_weight;       // [edge_count]
+  float* hinge_rest;         // [edge_count]
 
   TEAR_HD void operator()(index_t e) const {
-    const index_t stretch = e, bend = edge_count + e;
-    clear(stretch);
-    clear(bend);
+    spring_nodes[2 * e] = spring_nodes[2 * e + 1] = -1;
+    spring_weight[e] = spring_rest[e] = 0.0f;
+    for (int j = 0; j < pd_constraint_nodes; ++j) {
+      hinge_nodes[pd_constraint_nodes * e + j] = -1;
+      hinge_coef[pd_constraint_nodes * e + j] = 0.0f;
+    }
+    hinge_weight[e] = hinge_rest[e] = 0.0f;
     const index_t a = edge_nodes[2 * e], b = edge_nodes[2 * e + 1];
     const Vec3d xa = load3<double>(node_rest, a), xb = load3<double>(node_rest, b);
     const double len2 = dot(xb - xa, xb - xa);
@@ -92,12 +126,10 @@ struct make_pd_constraints {
 
     const double stretch_weight = stretch_stiffness * (face_area[0] + face_area[1]) / 3.0 / len2;
     if (len2 > 0 && stretch_weight > 0) {
-      constraint_nodes[pd_constraint_nodes * stretch] = a;
-      constraint_nodes[pd_constraint_nodes * stretch + 1] = b;
-      constraint_coef[pd_constraint_nodes * stretch] = 1.0f;
-      constraint_coef[pd_constraint_nodes * stretch + 1] = -1.0f;
-      constraint_weight[stretch] = static_cast<float>(stretch_weight);
-      constraint_rest[stretch] = static_cast<float>(sqrt(len2));
+      spring_nodes[2 * e] = a;
+      spring_nodes[2 * e + 1] = b;
+      spring_weight[e] = static_cast<float>(stretch_weight);
+      spring_rest[e] = static_cast<float>(sqrt(len2));
     }
 
     // A hinge needs exactly two faces (a non-manifold edge's fans have no single dihedral angle).
@@ -108,12 +140,12 @@ struct make_pd_constraints {
       return;
     Vec3d fold{0, 0, 0};
     for (int j = 0; j < 4; ++j) {
-      constraint_nodes[pd_constraint_nodes * bend + j] = hinge[j];
-      constraint_coef[pd_constraint_nodes * bend + j] = static_cast<float>(k[j]);
+      hinge_nodes[pd_constraint_nodes * e + j] = hinge[j];
+      hinge_coef[pd_constraint_nodes * e + j] = static_cast<float>(k[j]);
       fold = fold + k[j] * load3<double>(node_rest, hinge[j]);
     }
-    constraint_weight[bend] = static_cast<float>(bend_stiffness * 3.0 * len2 / (face_area[0] + face_area[1]));
-    constraint_rest[bend] = static_cast<float>(norm(fold));
+    hinge_weight[e] = static_cast<float>(bend_stiffness * 3.0 * len2 / (face_area[0] + face_area[1]));
+    hinge_rest[e] = static_cast<float>(norm(fold));
   }
 };
 
@@ -124,10 +156,10 @@ struct is_positive {
 
 /// Histogram of the used constraint slots by node (`node_count_of` zeroed first).
 struct count_node_slots {
-  const index_t* constraint_nodes;
+  PdConstraints constraints;
   index_t* node_count_of;
   TEAR_HD void operator()(index_t s) const {
-    const index_t n = constraint_nodes[s];
+    const index_t n = constraints.slot_node(s);
     if (n >= 0) atomic_fetch_add(&node_count_of[n], 1);
   }
 };
@@ -135,11 +167,11 @@ struct count_node_slots {
 /// Puts each used slot in its node's run through the node's cursor; the runs are sorted afterwards
 /// (`sort_runs`), so each node lists its slots, and so its constraints, in index order.
 struct fill_node_slots {
-  const index_t* constraint_nodes;
+  PdConstraints constraints;
   index_t* node_cursor;
   index_t* node_slots;
   TEAR_HD void operator()(index_t s) const {
-    const index_t n = constraint_nodes[s];
+    const index_t n = constraints.slot_node(s);
     if (n >= 0) node_slots[atomic_fetch_add(&node_cursor[n], 1)] = s;
   }
 };
@@ -154,9 +186,8 @@ struct fill_node_slots {
 /// has λ(D⁻¹A) = 4).
 struct compute_jacobi_diagonal {
   const index_t* node_slot_offset;
-  const index_t* node_slots;  // slot s = 4 c + j of constraint c
-  const float* constraint_coef;
-  const float* constraint_weight;
+  const index_t* node_slots;
+  PdConstraints constraints;
   const float* node_mass;
   float inv_h2;  // 1/s²
   float* node_diag;
@@ -164,11 +195,10 @@ struct compute_jacobi_diagonal {
     float d = node_mass[n] * inv_h2;
     for (index_t i = node_slot_offset[n]; i < node_slot_offset[n + 1]; ++i) {
       const index_t s = node_slots[i];
-      const index_t c = s / pd_constraint_nodes;
-      const float k = fabsf(constraint_coef[s]);
-      float sum = 0.0f;
-      for (int j = 0; j < pd_constraint_nodes; ++j) sum += fabsf(constraint_coef[pd_constraint_nodes * c + j]);
-      d += constraint_weight[c] * k * (0.5f * sum > k ? 0.5f * sum : k);
+      const index_t c = constraints.constraint_of_slot(s);
+      const float k = fabsf(constraints.slot_coef(s));
+      const float sum = constraints.coef_abs_sum(c);
+      d += constraints.weight(c) * k * (0.5f * sum > k ? 0.5f * sum : k);
     }
     node_diag[n] = d;
   }

@@ -35,29 +35,35 @@ struct predict_positions {
 /// Local step of constraint c at the iterate x: f_c = w_c (p_c − A_c x), the constraint's pull
 /// towards its projection p_c (pd_math.h `project_length`): newtons for a spring. One function for
 /// both ways of running an iteration, so they compute the same bits.
-TEAR_HD inline Vec3f compute_constraint_force(const index_t* constraint_nodes, const float* constraint_coef,
-                                      const float* constraint_weight, const float* constraint_rest,
-                                      const float* node_iter, index_t c) {
+TEAR_HD inline Vec3f compute_constraint_force(const PdConstraints& constraints, const float* node_iter, index_t c) {
   Vec3f d{0, 0, 0};
-  for (int j = 0; j < pd_constraint_nodes; ++j) {
-    const index_t n = constraint_nodes[pd_constraint_nodes * c + j];
-    if (n >= 0) d = d + constraint_coef[pd_constraint_nodes * c + j] * load3<float>(node_iter, n);
+  float rest, weight;
+  if (c < constraints.edge_count) {
+    const index_t a = constraints.spring_nodes[2 * c], b = constraints.spring_nodes[2 * c + 1];
+    if (a >= 0) d = d + 1.0f * load3<float>(node_iter, a);
+    if (b >= 0) d = d + (-1.0f) * load3<float>(node_iter, b);
+    rest = constraints.spring_rest[c];
+    weight = constraints.spring_weight[c];
+  } else {
+    const index_t h = c - constraints.edge_count;
+    for (int j = 0; j < pd_constraint_nodes; ++j) {
+      const index_t n = constraints.hinge_nodes[pd_constraint_nodes * h + j];
+      if (n >= 0) d = d + constraints.hinge_coef[pd_constraint_nodes * h + j] * load3<float>(node_iter, n);
+    }
+    rest = constraints.hinge_rest[h];
+    weight = constraints.hinge_weight[h];
   }
-  const Vec3f p = project_length(d, constraint_rest[c]);
-  return constraint_weight[c] * (p - d);
+  const Vec3f p = project_length(d, rest);
+  return weight * (p - d);
 }
 
 /// Local step of every constraint, stored for the global step (`jacobi_chebyshev_update`).
 struct project_constraints {
-  const index_t* constraint_nodes;
-  const float* constraint_coef;
-  const float* constraint_weight;
-  const float* constraint_rest;
+  PdConstraints constraints;
   const float* node_iter;
   float* constraint_force;  // [constraint_count * 3]
   TEAR_HD void operator()(index_t c) const {
-    store3(constraint_force, c,
-           compute_constraint_force(constraint_nodes, constraint_coef, constraint_weight, constraint_rest, node_iter, c));
+    store3(constraint_force, c, compute_constraint_force(constraints, node_iter, c));
   }
 };
 
@@ -72,14 +78,9 @@ struct StoredForces {
 /// `project_constraints`, so the result is the same bits while the forces never go through memory
 /// and an iteration is one launch.
 struct ComputedForces {
-  const index_t* constraint_nodes;
-  const float* constraint_coef;
-  const float* constraint_weight;
-  const float* constraint_rest;
+  PdConstraints constraints;
   const float* node_iter;
-  TEAR_HD Vec3f operator()(index_t c) const {
-    return compute_constraint_force(constraint_nodes, constraint_coef, constraint_weight, constraint_rest, node_iter, c);
-  }
+  TEAR_HD Vec3f operator()(index_t c) const { return compute_constraint_force(constraints, node_iter, c); }
 };
 
 /// Global step at node n: one Jacobi update of (M/h² + Σ w AᵀA) x = M s/h² + Σ w Aᵀ p,
@@ -91,7 +92,7 @@ template <class Forces>
 struct jacobi_chebyshev_update {
   const index_t* node_slot_offset;
   const index_t* node_slots;
-  const float* constraint_coef;
+  PdConstraints constraints;
   Forces force;
   const float* node_mass;
   const float* node_diag;
@@ -118,7 +119,7 @@ struct jacobi_chebyshev_update {
     Vec3f g = (node_mass[n] * inv_h2) * (s - x);
     for (index_t i = node_slot_offset[n]; i < node_slot_offset[n + 1]; ++i) {
       const index_t slot = node_slots[i];
-      g = g + constraint_coef[slot] * force(slot / pd_constraint_nodes);
+      g = g + constraints.slot_coef(slot) * force(constraints.constraint_of_slot(slot));
     }
     const Vec3f x_hat = x + (1.0f / diag) * g;
     const Vec3f x_prev = load3<float>(node_iter_prev, n);

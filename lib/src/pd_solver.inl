@@ -92,21 +92,21 @@ class PdSolverOn final : public PdSolver::Impl {
   index_t node_count() const override { return node_count_; }
   index_t constraint_count() const override { return active_constraint_count_; }
   std::size_t bytes_per_iteration() const override {
-    const std::size_t c = static_cast<std::size_t>(constraint_count_), n = static_cast<std::size_t>(node_count_),
+    const std::size_t e = static_cast<std::size_t>(edge_count_), n = static_cast<std::size_t>(node_count_),
                       s = node_slots_.size();
-    // Local step: a constraint's nodes, coefficients, weight and rest value read, its force
-    // written; each iterate read once. Global step: a node's CSR offset, mass, diagonal, pin,
-    // prediction and two iterates read and the next written; a slot's constraint and coefficient
-    // read; each force read once.
-    const std::size_t constraint = 4 * sizeof(index_t) + 4 * sizeof(float) + 2 * sizeof(float);
+    // A spring's record: 2 nodes, weight, rest length; a hinge's: 4 nodes, 4 coefficients, weight,
+    // rest value. A node's own data: CSR offset, mass, diagonal, pin, prediction, two iterates read
+    // and the next written.
+    const std::size_t records = e * (2 * sizeof(index_t) + 2 * sizeof(float)) +
+                                e * (4 * sizeof(index_t) + 4 * sizeof(float) + 2 * sizeof(float));
     const std::size_t node = sizeof(index_t) + 2 * sizeof(float) + 1 + 4 * 3 * sizeof(float);
-    // Fused: each constraint's record read once (its other nodes serve it from the cache), a
-    // slot's index read, the node's own data. Two passes: the forces written and read back, each
-    // iterate read by both passes, a slot's coefficient read apart from its record.
-    if (fused_) return c * constraint + s * sizeof(index_t) + n * node;
-    const std::size_t local = c * (constraint + 3 * sizeof(float)) + n * 3 * sizeof(float);
-    const std::size_t global = n * node + s * (sizeof(index_t) + sizeof(float)) + c * 3 * sizeof(float);
-    return local + global;
+    // One pass: each record read once (its other nodes serve it from the cache), a slot's index
+    // read, the node's own data. Two passes: besides, the forces written and read back, each
+    // iterate read by the constraint pass too, a hinge slot's coefficient read apart from its
+    // record (at most every slot's).
+    if (fused_) return records + s * sizeof(index_t) + n * node;
+    const std::size_t forces = 2 * static_cast<std::size_t>(constraint_count_) * 3 * sizeof(float);
+    return records + forces + n * 3 * sizeof(float) + n * node + s * (sizeof(index_t) + sizeof(float));
   }
   const SimulationOptions& options() const override { return options_; }
 
@@ -136,6 +136,10 @@ class PdSolverOn final : public PdSolver::Impl {
   /// Masses, constraints, the node→constraint CSR and the Jacobi diagonal of the mesh; the state
   /// starts at rest (positions = rest positions, no velocity).
   void build_model(const vec<index_t>& face_nodes, const vec<float>& node_rest, const DeviceTopology<System>& topo);
+  kernels::PdConstraints constraints() const {
+    return {edge_count_,           raw<index_t>(spring_nodes_), raw<float>(spring_weight_), raw<float>(spring_rest_),
+            raw<index_t>(hinge_nodes_), raw<float>(hinge_coef_),  raw<float>(hinge_weight_), raw<float>(hinge_rest_)};
+  }
   template <class Policy>
   void enqueue_substep(const Policy& policy);
 
@@ -148,8 +152,9 @@ class PdSolverOn final : public PdSolver::Impl {
   vec<float> node_pos_, node_vel_;
   // Model.
   vec<float> node_mass_, node_diag_;
-  vec<index_t> constraint_nodes_;
-  vec<float> constraint_coef_, constraint_weight_, constraint_rest_;
+  index_t edge_count_ = 0;
+  vec<index_t> spring_nodes_, hinge_nodes_;
+  vec<float> spring_weight_, spring_rest_, hinge_coef_, hinge_weight_, hinge_rest_;
   vec<index_t> node_slot_offset_, node_slots_;
   vec<kernels::PdCollider> colliders_;
   // Scratch of a step.
@@ -174,41 +179,42 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
 
   const index_t edge_count = topo.edge_count;
   constraint_count_ = 2 * edge_count;
-  const index_t slot_count = pd_constraint_nodes * constraint_count_;
-  constraint_nodes_.resize(slot_count);
-  constraint_coef_.resize(slot_count);
-  constraint_weight_.resize(constraint_count_);
-  constraint_rest_.resize(constraint_count_);
+  edge_count_ = edge_count;
+  spring_nodes_.resize(2 * static_cast<std::size_t>(edge_count));
+  hinge_nodes_.resize(pd_constraint_nodes * static_cast<std::size_t>(edge_count));
+  hinge_coef_.resize(pd_constraint_nodes * static_cast<std::size_t>(edge_count));
+  for (auto* v : {&spring_weight_, &spring_rest_, &hinge_weight_, &hinge_rest_}) v->resize(edge_count);
   if (!fused_) constraint_force_.resize(3 * static_cast<std::size_t>(constraint_count_));  // two passes only
-  thrust::for_each(
-      policy, zero, zero + edge_count,
-      make_pd_constraints{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.edge_nodes),
-                          raw<index_t>(topo.edge_faces), raw<index_t>(topo.edge_face_count), edge_count,
-                          options_.stretch_stiffness, options_.bend_stiffness, raw<index_t>(constraint_nodes_),
-                          raw<float>(constraint_coef_), raw<float>(constraint_weight_), raw<float>(constraint_rest_)});
+  thrust::for_each(policy, zero, zero + edge_count,
+                   make_pd_constraints{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.edge_nodes),
+                                       raw<index_t>(topo.edge_faces), raw<index_t>(topo.edge_face_count), edge_count,
+                                       options_.stretch_stiffness, options_.bend_stiffness, raw<index_t>(spring_nodes_),
+                                       raw<float>(spring_weight_), raw<float>(spring_rest_), raw<index_t>(hinge_nodes_),
+                                       raw<float>(hinge_coef_), raw<float>(hinge_weight_), raw<float>(hinge_rest_)});
   active_constraint_count_ = static_cast<index_t>(
-      thrust::count_if(policy, constraint_weight_.begin(), constraint_weight_.end(), is_positive{}));
+      thrust::count_if(policy, spring_weight_.begin(), spring_weight_.end(), is_positive{}) +
+      thrust::count_if(policy, hinge_weight_.begin(), hinge_weight_.end(), is_positive{}));
 
   // Node→constraint CSR by counting: slots counted per node, the counts scanned into offsets, the
   // slots put in their nodes' runs and each run sorted, so a node's constraints come in index
   // order, the fixed order its Jacobi update sums them in.
+  const PdConstraints model = constraints();
   vec<index_t> node_tally(static_cast<std::size_t>(node_count_) + 1, 0);
-  thrust::for_each(policy, zero, zero + slot_count,
-                   count_node_slots{raw<index_t>(constraint_nodes_), raw<index_t>(node_tally)});
+  thrust::for_each(policy, zero, zero + model.slot_count(), count_node_slots{model, raw<index_t>(node_tally)});
   node_slot_offset_.resize(static_cast<std::size_t>(node_count_) + 1);
   thrust::exclusive_scan(policy, node_tally.begin(), node_tally.end(), node_slot_offset_.begin());
   thrust::copy(policy, node_slot_offset_.begin(), node_slot_offset_.end(), node_tally.begin());
   node_slots_.resize(node_slot_offset_[node_count_]);
-  thrust::for_each(policy, zero, zero + slot_count,
-                   fill_node_slots{raw<index_t>(constraint_nodes_), raw<index_t>(node_tally), raw<index_t>(node_slots_)});
+  thrust::for_each(policy, zero, zero + model.slot_count(),
+                   fill_node_slots{model, raw<index_t>(node_tally), raw<index_t>(node_slots_)});
   thrust::for_each(policy, zero, zero + node_count_, sort_runs{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_)});
 
   const double h = options_.step_seconds();
   node_diag_.resize(node_count_);
   thrust::for_each(
       policy, zero, zero + node_count_,
-      compute_jacobi_diagonal{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), raw<float>(constraint_coef_),
-                              raw<float>(constraint_weight_), raw<float>(node_mass_), static_cast<float>(1.0 / (h * h)),
+      compute_jacobi_diagonal{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), model, raw<float>(node_mass_),
+                              static_cast<float>(1.0 / (h * h)),
                               raw<float>(node_diag_)});
 }
 
@@ -236,6 +242,7 @@ void PdSolverOn<System>::enqueue_substep(const Policy& policy) {
                    predict_positions{raw<float>(node_pos_), raw<float>(node_vel_), raw<std::uint8_t>(node_pinned_),
                                      static_cast<float>(h), gravity, raw<float>(node_pred_), raw<float>(node_iter_[0]),
                                      raw<float>(node_iter_[1])});
+  const PdConstraints model = constraints();
   int cur = 0, prev = 1, next = 2;
   double omega = 1.0;
   for (int k = 0; k < options_.iterations; ++k) {
@@ -245,21 +252,17 @@ void PdSolverOn<System>::enqueue_substep(const Policy& policy) {
     // before it or by each node for its constraints.
     const auto update = [&](auto forces) {
       return jacobi_chebyshev_update<decltype(forces)>{
-          raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), raw<float>(constraint_coef_), forces,
+          raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), model, forces,
           raw<float>(node_mass_), raw<float>(node_diag_), raw<std::uint8_t>(node_pinned_), raw<float>(node_pred_),
           raw<float>(node_iter_[cur]), raw<float>(node_iter_[prev]), inv_h2, static_cast<float>(omega), gamma,
           raw<float>(node_iter_[next])};
     };
     if (fused_) {
       thrust::for_each(policy, zero, zero + node_count_,
-                       update(ComputedForces{raw<index_t>(constraint_nodes_), raw<float>(constraint_coef_),
-                                             raw<float>(constraint_weight_), raw<float>(constraint_rest_),
-                                             raw<float>(node_iter_[cur])}));
+                       update(ComputedForces{model, raw<float>(node_iter_[cur])}));
     } else {
       thrust::for_each(policy, zero, zero + constraint_count_,
-                       project_constraints{raw<index_t>(constraint_nodes_), raw<float>(constraint_coef_),
-                                           raw<float>(constraint_weight_), raw<float>(constraint_rest_),
-                                           raw<float>(node_iter_[cur]), raw<float>(constraint_force_)});
+                       project_constraints{model, raw<float>(node_iter_[cur]), raw<float>(constraint_force_)});
       thrust::for_each(policy, zero, zero + node_count_, update(StoredForces{raw<float>(constraint_force_)}));
     }
     const int old_prev = prev;
