@@ -28,8 +28,10 @@
 // code including these headers) sees plain functions; __host__/__device__ are never redefined.
 #if defined(__CUDACC__)
 #define TEAR_HD __host__ __device__
+#define TEAR_UNROLL _Pragma("unroll")
 #else
 #define TEAR_HD
+#define TEAR_UNROLL
 #endif
 
 namespace tear::kernels {

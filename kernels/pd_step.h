@@ -33,8 +33,7 @@ struct predict_positions {
 };
 
 /// Local step of constraint c at the iterate x: f_c = w_c (p_c − A_c x), the constraint's pull
-/// towards its projection p_c (pd_math.h `project_length`): newtons for a spring. One function for
-/// both ways of running an iteration, so they compute the same bits.
+/// towards its projection p_c (pd_math.h `project_length`): newtons for a spring.
 TEAR_HD inline Vec3f compute_constraint_force(const PdConstraints& constraints, const float* node_iter, index_t c) {
   Vec3f d{0, 0, 0};
   float rest, weight;
@@ -67,33 +66,20 @@ struct project_constraints {
   }
 };
 
-/// Where the global step finds constraint c's force: stored by `project_constraints`...
-struct StoredForces {
-  const float* constraint_force;
-  TEAR_HD Vec3f operator()(index_t c) const { return load3<float>(constraint_force, c); }
-};
-
-/// ...or computed on the spot from the current iterate (the one-pass iteration). A spring's force is
-/// then computed by both its nodes and a hinge's by all four, in the same operations as
-/// `project_constraints`, so the result is the same bits while the forces never go through memory
-/// and an iteration is one launch.
-struct ComputedForces {
-  PdConstraints constraints;
-  const float* node_iter;
-  TEAR_HD Vec3f operator()(index_t c) const { return compute_constraint_force(constraints, node_iter, c); }
-};
-
 /// Global step at node n: one Jacobi update of (M/h² + Σ w AᵀA) x = M s/h² + Σ w Aᵀ p,
 ///   x̂ = x + (m/h² (s − x) + Σ_c k_{c,n} f_c) / D_n,
 /// then Chebyshev's x⁽ᵏ⁺¹⁾ = ω (γ (x̂ − x⁽ᵏ⁾) + x⁽ᵏ⁾ − x⁽ᵏ⁻¹⁾) + x⁽ᵏ⁻¹⁾ (Wang 2015, eq. 12 with
 /// under-relaxation γ). Pinned nodes stay. A node with no mass and no constraint follows s.
-/// `Forces` gives f_c: `StoredForces` or `ComputedForces`.
-template <class Forces>
+///
+/// The gather is latency-bound (a node's slots, then their coefficients and forces, a chain of
+/// dependent loads per slot): slots are read `gather_batch` at a time and their loads issued before
+/// any is summed, and the sum still runs in slot order, so the bits are those of a plain loop.
 struct jacobi_chebyshev_update {
+  static constexpr int gather_batch = 8;
   const index_t* node_slot_offset;
   const index_t* node_slots;
   PdConstraints constraints;
-  Forces force;
+  const float* constraint_force;  // [constraint_count * 3], from `project_constraints`
   const float* node_mass;
   const float* node_diag;
   const std::uint8_t* node_pinned;
@@ -117,9 +103,24 @@ struct jacobi_chebyshev_update {
       return;
     }
     Vec3f g = (node_mass[n] * inv_h2) * (s - x);
-    for (index_t i = node_slot_offset[n]; i < node_slot_offset[n + 1]; ++i) {
-      const index_t slot = node_slots[i];
-      g = g + constraints.slot_coef(slot) * force(constraints.constraint_of_slot(slot));
+    const index_t end = node_slot_offset[n + 1];
+    for (index_t i = node_slot_offset[n]; i < end; i += gather_batch) {
+      const int count = end - i < gather_batch ? static_cast<int>(end - i) : gather_batch;
+      index_t slot[gather_batch];
+      float coef[gather_batch];
+      Vec3f f[gather_batch];
+TEAR_UNROLL
+      for (int j = 0; j < gather_batch; ++j)
+        if (j < count) slot[j] = node_slots[i + j];
+TEAR_UNROLL
+      for (int j = 0; j < gather_batch; ++j)
+        if (j < count) {
+          coef[j] = constraints.slot_coef(slot[j]);
+          f[j] = load3<float>(constraint_force, constraints.constraint_of_slot(slot[j]));
+        }
+TEAR_UNROLL
+      for (int j = 0; j < gather_batch; ++j)
+        if (j < count) g = g + coef[j] * f[j];
     }
     const Vec3f x_hat = x + (1.0f / diag) * g;
     const Vec3f x_prev = load3<float>(node_iter_prev, n);

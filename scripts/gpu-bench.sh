@@ -1,8 +1,7 @@
 #!/usr/bin/env bash
 # Runs `tear bench` on a machine with a GPU, after scripts/gpu-suite.sh built BUILD_DIR: every part
 # on the default sizes with the CPU backend alongside, then the solver and the scene again with
-# CUDA graphs off (TEAR_CUDA_GRAPHS=0) and with the two-pass iteration (TEAR_PD_ITERATION=split),
-# for the ratios. Output and JSON go to LOG_DIR.
+# CUDA graphs off (TEAR_CUDA_GRAPHS=0), for the ratio. Output and JSON go to LOG_DIR.
 #   [REPEATS=K] scripts/gpu-bench.sh [LOG_DIR] [BUILD_DIR] [extra tear bench options...]
 # REPEATS (default 5) is --repeats; the extra options must not repeat --repeats, --only or --json.
 set -uo pipefail
@@ -17,5 +16,3 @@ date -u >> "$log_dir/machine.txt"
 "$tear" bench --repeats "${REPEATS:-5}" --json "$log_dir/bench.json" "$@" 2>&1 | tee "$log_dir/bench.txt"
 TEAR_CUDA_GRAPHS=0 "$tear" bench --repeats "${REPEATS:-5}" --only pd,scene --no-cpu --json "$log_dir/bench-no-graphs.json" "$@" 2>&1 |
   tee "$log_dir/bench-no-graphs.txt"
-TEAR_PD_ITERATION=split "$tear" bench --repeats "${REPEATS:-5}" --only pd,scene --no-cpu --json "$log_dir/bench-split.json" "$@" 2>&1 |
-  tee "$log_dir/bench-split.txt"

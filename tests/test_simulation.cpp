@@ -539,34 +539,6 @@ TEST_CASE("simulation: the state round-trips through the host and the device poi
   CHECK(moved.node_pos() == pos);
 }
 
-TEST_CASE("simulation: the one-pass and the two-pass iteration give the same bits", "[simulation]") {
-  const tear::Mesh mesh = horizontal_sheet(800, true);
-  SimulationOptions o;
-  o.pins = {edge_pin()};
-  o.bend_stiffness = 1e-3;
-  o.colliders = {tear::Collider{tear::Collider::Kind::sphere, {0.5, -0.4, 0.3}, {0, 1, 0}, 0.2}};
-  std::vector<float> pos[2], vel[2];
-  const char* modes[2] = {"fused", "split"};
-  for (int m = 0; m < 2; ++m) {
-    tear::test::ScopedEnvironment mode("TEAR_PD_ITERATION", modes[m]);
-    PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
-    for (int f = 0; f < 6; ++f) solver.step();
-    pos[m] = solver.node_pos();
-    vel[m] = solver.node_vel();
-  }
-  CHECK(pos[0] != mesh.node_pos);
-  CHECK(std::memcmp(pos[0].data(), pos[1].data(), pos[0].size() * sizeof(float)) == 0);
-  CHECK(std::memcmp(vel[0].data(), vel[1].data(), vel[0].size() * sizeof(float)) == 0);
-
-  tear::test::ScopedEnvironment bad("TEAR_PD_ITERATION", "both");
-  try {
-    PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
-    FAIL("expected an error");
-  } catch (const tear::Error& e) {
-    CHECK(std::string(e.what()) == "TEAR_PD_ITERATION=both: expected fused or split");
-  }
-}
-
 TEST_CASE("simulation: a solver built from a cut cloth's own arrays matches one built from its mesh", "[simulation]") {
   tear::SheetOptions sheet;
   sheet.face_count = 600;

@@ -2,7 +2,6 @@
 // masses, constraints, node→constraint CSR, Jacobi diagonal), then each step is a fixed sequence of
 // kernel launches with no read-back, so a CUDA step queues without waiting.
 #include <cmath>
-#include <cstdlib>
 #include <string>
 #include <type_traits>
 
@@ -24,19 +23,6 @@
 
 namespace tear::backend {
 
-namespace {
-/// How an iteration runs: TEAR_PD_ITERATION=fused (one pass, forces computed where they are
-/// summed) or split (a pass over the constraints, then one over the nodes); both give the same
-/// bits. Unset: `fused_default`.
-bool fused_iteration(bool fused_default) {
-  const char* setting = std::getenv("TEAR_PD_ITERATION");
-  if (!setting || !*setting) return fused_default;
-  const std::string mode = setting;
-  if (mode == "fused") return true;
-  if (mode == "split") return false;
-  throw runtime_error("TEAR_PD_ITERATION=" + mode + ": expected fused or split");
-}
-}  // namespace
 
 template <class System>
 class PdSolverOn final : public PdSolver::Impl {
@@ -69,7 +55,6 @@ class PdSolverOn final : public PdSolver::Impl {
         node_pinned_(node_pinned.begin(), node_pinned.end()),
         node_pos_(3 * static_cast<std::size_t>(node_count), 0.0f),
         node_vel_(3 * static_cast<std::size_t>(node_count), 0.0f) {
-    fused_ = fused_iteration(std::is_same<System, Cuda>::value);
     node_pred_.resize(3 * static_cast<std::size_t>(node_count));
     for (auto& iter : node_iter_) iter.resize(3 * static_cast<std::size_t>(node_count));
     std::vector<kernels::PdCollider> colliders;
@@ -93,19 +78,16 @@ class PdSolverOn final : public PdSolver::Impl {
   index_t constraint_count() const override { return active_constraint_count_; }
   std::size_t bytes_per_iteration() const override {
     const std::size_t e = static_cast<std::size_t>(edge_count_), n = static_cast<std::size_t>(node_count_),
-                      s = node_slots_.size();
-    // A spring's record: 2 nodes, weight, rest length; a hinge's: 4 nodes, 4 coefficients, weight,
-    // rest value. A node's own data: CSR offset, mass, diagonal, pin, prediction, two iterates read
-    // and the next written.
+                      s = node_slots_.size(), c = static_cast<std::size_t>(constraint_count_);
+    // Local step: a spring's record (2 nodes, weight, rest length) or a hinge's (4 nodes, 4
+    // coefficients, weight, rest value) read, its force written; each iterate read once. Global
+    // step: a node's CSR offset, mass, diagonal, pin, prediction and two iterates read and the next
+    // written; a slot's index (and a hinge slot's coefficient: counted for every slot) read; each
+    // force read once.
     const std::size_t records = e * (2 * sizeof(index_t) + 2 * sizeof(float)) +
                                 e * (4 * sizeof(index_t) + 4 * sizeof(float) + 2 * sizeof(float));
+    const std::size_t forces = 2 * c * 3 * sizeof(float);
     const std::size_t node = sizeof(index_t) + 2 * sizeof(float) + 1 + 4 * 3 * sizeof(float);
-    // One pass: each record read once (its other nodes serve it from the cache), a slot's index
-    // read, the node's own data. Two passes: besides, the forces written and read back, each
-    // iterate read by the constraint pass too, a hinge slot's coefficient read apart from its
-    // record (at most every slot's).
-    if (fused_) return records + s * sizeof(index_t) + n * node;
-    const std::size_t forces = 2 * static_cast<std::size_t>(constraint_count_) * 3 * sizeof(float);
     return records + forces + n * 3 * sizeof(float) + n * node + s * (sizeof(index_t) + sizeof(float));
   }
   const SimulationOptions& options() const override { return options_; }
@@ -144,7 +126,6 @@ class PdSolverOn final : public PdSolver::Impl {
   void enqueue_substep(const Policy& policy);
 
   SimulationOptions options_;
-  bool fused_ = false;  // one pass per iteration (jacobi_chebyshev_fused) instead of two
   index_t node_count_ = 0;
   index_t constraint_count_ = 0;  // 2 per edge, weightless ones included
   index_t active_constraint_count_ = 0;
@@ -184,7 +165,7 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
   hinge_nodes_.resize(pd_constraint_nodes * static_cast<std::size_t>(edge_count));
   hinge_coef_.resize(pd_constraint_nodes * static_cast<std::size_t>(edge_count));
   for (auto* v : {&spring_weight_, &spring_rest_, &hinge_weight_, &hinge_rest_}) v->resize(edge_count);
-  if (!fused_) constraint_force_.resize(3 * static_cast<std::size_t>(constraint_count_));  // two passes only
+  constraint_force_.resize(3 * static_cast<std::size_t>(constraint_count_));
   thrust::for_each(policy, zero, zero + edge_count,
                    make_pd_constraints{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.edge_nodes),
                                        raw<index_t>(topo.edge_faces), raw<index_t>(topo.edge_face_count), edge_count,
@@ -247,24 +228,17 @@ void PdSolverOn<System>::enqueue_substep(const Policy& policy) {
   double omega = 1.0;
   for (int k = 0; k < options_.iterations; ++k) {
     omega = chebyshev_omega(k, cheb.delay, cheb.rho, omega);
-    // Global step: one Chebyshev-weighted Jacobi update per node (Wang 2015, §4), with the local
-    // step (every constraint's projection at the current iterate, §4.1) done in a pass of its own
-    // before it or by each node for its constraints.
-    const auto update = [&](auto forces) {
-      return jacobi_chebyshev_update<decltype(forces)>{
-          raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), model, forces,
-          raw<float>(node_mass_), raw<float>(node_diag_), raw<std::uint8_t>(node_pinned_), raw<float>(node_pred_),
-          raw<float>(node_iter_[cur]), raw<float>(node_iter_[prev]), inv_h2, static_cast<float>(omega), gamma,
-          raw<float>(node_iter_[next])};
-    };
-    if (fused_) {
-      thrust::for_each(policy, zero, zero + node_count_,
-                       update(ComputedForces{model, raw<float>(node_iter_[cur])}));
-    } else {
-      thrust::for_each(policy, zero, zero + constraint_count_,
-                       project_constraints{model, raw<float>(node_iter_[cur]), raw<float>(constraint_force_)});
-      thrust::for_each(policy, zero, zero + node_count_, update(StoredForces{raw<float>(constraint_force_)}));
-    }
+    // Local step: every constraint's projection at the current iterate (§4.1).
+    thrust::for_each(policy, zero, zero + constraint_count_,
+                     project_constraints{model, raw<float>(node_iter_[cur]), raw<float>(constraint_force_)});
+    // Global step: one Chebyshev-weighted Jacobi update per node (Wang 2015, §4).
+    thrust::for_each(policy, zero, zero + node_count_,
+                     jacobi_chebyshev_update{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), model,
+                                             raw<float>(constraint_force_), raw<float>(node_mass_),
+                                             raw<float>(node_diag_), raw<std::uint8_t>(node_pinned_),
+                                             raw<float>(node_pred_), raw<float>(node_iter_[cur]),
+                                             raw<float>(node_iter_[prev]), inv_h2, static_cast<float>(omega), gamma,
+                                             raw<float>(node_iter_[next])});
     const int old_prev = prev;
     prev = cur;
     cur = next;
