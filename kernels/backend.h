@@ -28,9 +28,13 @@
 // code including these headers) sees plain functions; __host__/__device__ are never redefined.
 #if defined(__CUDACC__)
 #define TEAR_HD __host__ __device__
-#define TEAR_UNROLL _Pragma("unroll")
 #else
 #define TEAR_HD
+#endif
+// Unrolls the next loop in device code (host compilers do not know the pragma).
+#if defined(__CUDA_ARCH__)
+#define TEAR_UNROLL _Pragma("unroll")
+#else
 #define TEAR_UNROLL
 #endif
 

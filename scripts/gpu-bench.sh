@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Runs `tear bench` on a machine with a GPU, after scripts/gpu-suite.sh built BUILD_DIR: every part
-# on the default sizes with the CPU backend alongside, then the solver and the scene again with
-# CUDA graphs off (TEAR_CUDA_GRAPHS=0), for the ratio. Output and JSON go to LOG_DIR.
+# on the default sizes with the CPU backend alongside (the solver's substeps as persistent
+# kernels, the default), then the solver and the scene again with TEAR_CUDA_LAUNCH=graph and
+# =plain, for the ratios. Output and JSON go to LOG_DIR.
 #   [REPEATS=K] scripts/gpu-bench.sh [LOG_DIR] [BUILD_DIR] [extra tear bench options...]
 # REPEATS (default 5) is --repeats; the extra options must not repeat --repeats, --only or --json.
 set -uo pipefail
@@ -14,5 +15,7 @@ nvidia-smi --query-gpu=name,driver_version,memory.total,clocks.max.sm,clocks.max
 git rev-parse --short HEAD >> "$log_dir/machine.txt" 2>/dev/null
 date -u >> "$log_dir/machine.txt"
 "$tear" bench --repeats "${REPEATS:-5}" --json "$log_dir/bench.json" "$@" 2>&1 | tee "$log_dir/bench.txt"
-TEAR_CUDA_GRAPHS=0 "$tear" bench --repeats "${REPEATS:-5}" --only pd,scene --no-cpu --json "$log_dir/bench-no-graphs.json" "$@" 2>&1 |
-  tee "$log_dir/bench-no-graphs.txt"
+for mode in graph plain; do
+  TEAR_CUDA_LAUNCH=$mode "$tear" bench --repeats "${REPEATS:-5}" --only pd,scene --no-cpu --json "$log_dir/bench-$mode.json" "$@" 2>&1 |
+    tee "$log_dir/bench-$mode.txt"
+done

@@ -539,6 +539,37 @@ TEST_CASE("simulation: the state round-trips through the host and the device poi
   CHECK(moved.node_pos() == pos);
 }
 
+TEST_CASE("simulation: every way of launching a step gives the same bits", "[simulation]") {
+  // On the GPU: one persistent kernel per substep, a replayed CUDA graph, or every kernel on its own
+  // (TEAR_CUDA_LAUNCH); on the CPU the three are one path.
+  const tear::Mesh mesh = horizontal_sheet(800, true);
+  SimulationOptions o;
+  o.pins = {edge_pin()};
+  o.colliders = {tear::Collider{tear::Collider::Kind::sphere, {0.5, -0.4, 0.3}, {0, 1, 0}, 0.2}};
+  const char* modes[3] = {"persistent", "graph", "plain"};
+  std::vector<float> pos[3], vel[3];
+  for (int m = 0; m < 3; ++m) {
+    tear::test::ScopedEnvironment mode("TEAR_CUDA_LAUNCH", modes[m]);
+    PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
+    for (int f = 0; f < 6; ++f) solver.step();
+    pos[m] = solver.node_pos();
+    vel[m] = solver.node_vel();
+  }
+  CHECK(pos[0] != mesh.node_pos);
+  for (int m = 1; m < 3; ++m) {
+    INFO(modes[m] << " against " << modes[0]);
+    CHECK(std::memcmp(pos[0].data(), pos[m].data(), pos[0].size() * sizeof(float)) == 0);
+    CHECK(std::memcmp(vel[0].data(), vel[m].data(), vel[0].size() * sizeof(float)) == 0);
+  }
+  tear::test::ScopedEnvironment bad("TEAR_CUDA_LAUNCH", "fast");
+  try {
+    PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
+    FAIL("expected an error");
+  } catch (const tear::Error& e) {
+    CHECK(std::string(e.what()) == "TEAR_CUDA_LAUNCH=fast: expected persistent, graph or plain");
+  }
+}
+
 TEST_CASE("simulation: a solver built from a cut cloth's own arrays matches one built from its mesh", "[simulation]") {
   tear::SheetOptions sheet;
   sheet.face_count = 600;

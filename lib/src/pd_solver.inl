@@ -2,6 +2,7 @@
 // masses, constraints, node→constraint CSR, Jacobi diagonal), then each step is a fixed sequence of
 // kernel launches with no read-back, so a CUDA step queues without waiting.
 #include <cmath>
+#include <cstdlib>
 #include <string>
 #include <type_traits>
 
@@ -19,10 +20,74 @@
 #include "pd_solver_device.h"
 #include "pd_step.h"
 #include "replay_graph.h"
+#if TEAR_CUDA_SYSTEM
+#include <cooperative_groups.h>
+#endif
 #include "tear/error.h"
 
 namespace tear::backend {
 
+
+/// How the CUDA backend launches a substep, from TEAR_CUDA_LAUNCH: `persistent` (the default: one
+/// cooperative kernel runs the whole substep, the grid synchronising between the passes), `graph`
+/// (the substep's launches recorded once as a CUDA graph and replayed) or `plain` (every kernel
+/// launched on its own). All three run the same operations in the same order: the same bits.
+enum class LaunchMode { persistent, graph, plain };
+
+inline LaunchMode launch_mode() {
+  const char* setting = std::getenv("TEAR_CUDA_LAUNCH");
+  if (!setting || !*setting) return LaunchMode::persistent;
+  const std::string mode = setting;
+  if (mode == "persistent") return LaunchMode::persistent;
+  if (mode == "graph") return LaunchMode::graph;
+  if (mode == "plain") return LaunchMode::plain;
+  throw runtime_error("TEAR_CUDA_LAUNCH=" + mode + ": expected persistent, graph or plain");
+}
+
+#if TEAR_CUDA_SYSTEM
+/// One substep's kernels with their arguments; the iterate pointers and ω are set per iteration.
+struct PersistentSubstep {
+  kernels::predict_positions predict;
+  kernels::project_constraints project;
+  kernels::jacobi_chebyshev_update update;
+  kernels::finish_step finish;
+  index_t node_count, constraint_count;
+  int iterations;
+  const float* omega;  // [iterations]
+  float* iter[3];
+};
+
+/// The whole substep in one cooperative kernel: each pass a grid-stride loop over its elements
+/// calling the same functor as its own launch would, the grid synchronised between passes.
+__global__ void persistent_substep_kernel(PersistentSubstep s) {
+  cooperative_groups::grid_group grid = cooperative_groups::this_grid();
+  const index_t first = static_cast<index_t>(blockIdx.x * blockDim.x + threadIdx.x);
+  const index_t stride = static_cast<index_t>(gridDim.x * blockDim.x);
+  for (index_t n = first; n < s.node_count; n += stride) s.predict(n);
+  grid.sync();
+  int cur = 0, prev = 1, next = 2;
+  for (int k = 0; k < s.iterations; ++k) {
+    kernels::project_constraints project = s.project;
+    project.node_iter = s.iter[cur];
+    for (index_t c = first; c < s.constraint_count; c += stride) project(c);
+    grid.sync();
+    kernels::jacobi_chebyshev_update update = s.update;
+    update.node_iter = s.iter[cur];
+    update.node_iter_prev = s.iter[prev];
+    update.node_iter_next = s.iter[next];
+    update.omega = s.omega[k];
+    for (index_t n = first; n < s.node_count; n += stride) update(n);
+    grid.sync();
+    const int old_prev = prev;
+    prev = cur;
+    cur = next;
+    next = old_prev;
+  }
+  kernels::finish_step finish = s.finish;
+  finish.node_iter = s.iter[cur];
+  for (index_t n = first; n < s.node_count; n += stride) finish(n);
+}
+#endif
 
 template <class System>
 class PdSolverOn final : public PdSolver::Impl {
@@ -55,6 +120,7 @@ class PdSolverOn final : public PdSolver::Impl {
         node_pinned_(node_pinned.begin(), node_pinned.end()),
         node_pos_(3 * static_cast<std::size_t>(node_count), 0.0f),
         node_vel_(3 * static_cast<std::size_t>(node_count), 0.0f) {
+    launch_mode_ = launch_mode();
     node_pred_.resize(3 * static_cast<std::size_t>(node_count));
     for (auto& iter : node_iter_) iter.resize(3 * static_cast<std::size_t>(node_count));
     std::vector<kernels::PdCollider> colliders;
@@ -124,6 +190,8 @@ class PdSolverOn final : public PdSolver::Impl {
   }
   template <class Policy>
   void enqueue_substep(const Policy& policy);
+  /// Runs the frame's substeps as persistent kernels; false where this backend or device cannot.
+  bool step_persistent();
 
   SimulationOptions options_;
   index_t node_count_ = 0;
@@ -142,6 +210,8 @@ class PdSolverOn final : public PdSolver::Impl {
   vec<float> node_pred_, constraint_force_;
   vec<float> node_iter_[3];
   ReplayGraph<System> step_graph_;  // the launches of one substep, recorded on the first step
+  LaunchMode launch_mode_ = LaunchMode::persistent;
+  vec<float> omega_;  // ω of each iteration, for the persistent kernel
 };
 
 template <class System>
@@ -201,9 +271,78 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
 
 template <class System>
 void PdSolverOn<System>::step() {
+  if (launch_mode_ == LaunchMode::persistent && step_persistent()) return;
+  const auto enqueue = [this](const auto& policy) { enqueue_substep(policy); };
+  if (launch_mode_ == LaunchMode::plain) {
+    for (int i = 0; i < options_.substeps; ++i) enqueue(Traits<System>::policy());
+    return;
+  }
   // One substep is always the same launches with the same arguments: replayed as one graph.
-  step_graph_.run([this](const auto& policy) { enqueue_substep(policy); }, options_.substeps);
+  step_graph_.run(enqueue, options_.substeps);
 }
+
+template <class System>
+bool PdSolverOn<System>::step_persistent() {
+  return false;
+}
+
+#if TEAR_CUDA_SYSTEM
+template <>
+bool PdSolverOn<Cuda>::step_persistent() {
+  using namespace kernels;
+  static const int block = 256;
+  int device = 0, cooperative = 0, sms = 0, blocks_per_sm = 0;
+  if (cudaGetDevice(&device) != cudaSuccess ||
+      cudaDeviceGetAttribute(&cooperative, cudaDevAttrCooperativeLaunch, device) != cudaSuccess || !cooperative ||
+      cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device) != cudaSuccess ||
+      cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks_per_sm, persistent_substep_kernel, block, 0) !=
+          cudaSuccess ||
+      blocks_per_sm == 0) {
+    cudaGetLastError();
+    launch_mode_ = LaunchMode::graph;  // not on this device: do not ask again
+    return false;
+  }
+  const double h = options_.step_seconds();
+  const auto& cheb = options_.chebyshev;
+  if (omega_.size() != static_cast<std::size_t>(options_.iterations)) {
+    std::vector<float> omega(static_cast<std::size_t>(options_.iterations));
+    double w = 1.0;
+    for (int k = 0; k < options_.iterations; ++k) omega[k] = static_cast<float>(w = chebyshev_omega(k, cheb.delay, cheb.rho, w));
+    omega_.assign(omega.begin(), omega.end());
+  }
+  PersistentSubstep s{};
+  s.predict = predict_positions{raw<float>(node_pos_), raw<float>(node_vel_), raw<std::uint8_t>(node_pinned_),
+                                static_cast<float>(h),
+                                Vec3f{static_cast<float>(options_.gravity[0]), static_cast<float>(options_.gravity[1]),
+                                      static_cast<float>(options_.gravity[2])},
+                                raw<float>(node_pred_), raw<float>(node_iter_[0]), raw<float>(node_iter_[1])};
+  const PdConstraints model = constraints();
+  s.project = project_constraints{model, nullptr, raw<float>(constraint_force_)};
+  s.update = jacobi_chebyshev_update{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), model,
+                                     raw<float>(constraint_force_), raw<float>(node_mass_), raw<float>(node_diag_),
+                                     raw<std::uint8_t>(node_pinned_), raw<float>(node_pred_), nullptr, nullptr,
+                                     static_cast<float>(1.0 / (h * h)), 0.0f, static_cast<float>(cheb.gamma), nullptr};
+  s.finish = finish_step{raw<std::uint8_t>(node_pinned_), nullptr, static_cast<float>(1.0 / h),
+                         static_cast<float>(std::pow(1.0 - options_.damping, h)), raw<PdCollider>(colliders_),
+                         static_cast<index_t>(colliders_.size()), raw<float>(node_pos_), raw<float>(node_vel_)};
+  s.node_count = node_count_;
+  s.constraint_count = constraint_count_;
+  s.iterations = options_.iterations;
+  s.omega = raw<float>(omega_);
+  for (int i = 0; i < 3; ++i) s.iter[i] = raw<float>(node_iter_[i]);
+  const index_t work = node_count_ > constraint_count_ ? node_count_ : constraint_count_;
+  const int wanted = static_cast<int>((static_cast<long long>(work) + block - 1) / block);
+  const int grid = wanted < sms * blocks_per_sm ? (wanted > 0 ? wanted : 1) : sms * blocks_per_sm;
+  void* args[] = {&s};
+  for (int i = 0; i < options_.substeps; ++i) {
+    const cudaError_t status = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(persistent_substep_kernel),
+                                                           dim3(grid), dim3(block), args, 0, 0);
+    if (status != cudaSuccess)
+      throw runtime_error(std::string("the solver's kernel could not be launched: ") + cudaGetErrorString(status));
+  }
+  return true;
+}
+#endif
 
 template <class System>
 template <class Policy>

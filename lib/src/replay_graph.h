@@ -2,8 +2,6 @@
 // (one launch for the whole sequence instead of one per kernel), on the CPU a plain call.
 #pragma once
 
-#include <cstdlib>
-#include <cstring>
 #include <string>
 
 #include "backend.h"
@@ -13,8 +11,7 @@ namespace tear::backend {
 
 /// `run(enqueue, times)` calls `enqueue(policy)` to queue the sequence `times` times. The
 /// sequence must be the same every time (same kernels, same arguments): the GPU version records
-/// it on its first run and replays the recording. The environment variable TEAR_CUDA_GRAPHS=0
-/// turns recording off (every kernel launched on its own, as a kernel profiler likes it).
+/// it on its first run and replays the recording.
 template <class System>
 class ReplayGraph {
  public:
@@ -38,13 +35,7 @@ class ReplayGraph<Cuda> {
 
   template <class Enqueue>
   void run(const Enqueue& enqueue, int times) {
-    if (!exec_ && !unavailable_) {
-      const char* setting = std::getenv("TEAR_CUDA_GRAPHS");
-      if (setting && std::strcmp(setting, "0") == 0)
-        unavailable_ = true;
-      else
-        record(enqueue);
-    }
+    if (!exec_ && !unavailable_) record(enqueue);
     for (int i = 0; i < times; ++i) {
       if (unavailable_) {
         enqueue(Traits<Cuda>::policy());
