@@ -30,7 +30,7 @@ namespace tear::backend {
 
 /// How the CUDA backend launches a substep, from TEAR_CUDA_LAUNCH: `persistent` (the default: one
 /// cooperative kernel runs the whole substep, the grid synchronising between the passes, on meshes
-/// small enough for one wave of threads; larger ones as `graph`), `graph`
+/// small enough for a few elements per thread; larger ones as `graph`), `graph`
 /// (the substep's launches recorded once as a CUDA graph and replayed) or `plain` (every kernel
 /// launched on its own). All three run the same operations in the same order: the same bits.
 enum class LaunchMode { persistent, graph, plain };
@@ -331,13 +331,14 @@ bool PdSolverOn<Cuda>::step_persistent() {
   s.iterations = options_.iterations;
   s.omega = raw<float>(omega_);
   for (int i = 0; i < 3; ++i) s.iter[i] = raw<float>(node_iter_[i]);
-  // Only where one wave of threads covers every pass (a thread per constraint and per node): past
-  // that the threads loop and separate launches, replayed as a graph, measured faster (H100:
-  // 4.2 against 3.7 ms per 100 iterations at 131,797 nodes, 1.3 against 1.8 ms at 19,426).
+  // Only while each thread has at most a few elements per pass: on larger meshes separate launches,
+  // replayed as a graph, measured faster (H100: 4.2 against 3.7 ms per 100 iterations at 131,797
+  // nodes, 1.3 against 1.8 ms at 19,426).
   const index_t work = node_count_ > constraint_count_ ? node_count_ : constraint_count_;
   const long long wanted = (static_cast<long long>(work) + block - 1) / block;
-  if (wanted > static_cast<long long>(sms) * blocks_per_sm) return false;
-  const int grid = wanted > 0 ? static_cast<int>(wanted) : 1;
+  const long long resident = static_cast<long long>(sms) * blocks_per_sm;
+  if (wanted > 4 * resident) return false;
+  const int grid = static_cast<int>(wanted < resident ? (wanted > 0 ? wanted : 1) : resident);
   void* args[] = {&s};
   for (int i = 0; i < options_.substeps; ++i) {
     const cudaError_t status = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(persistent_substep_kernel),
