@@ -21,6 +21,6 @@ TEAR_TEST_DEVICE=cuda ctest --test-dir "$build_dir" -j8 --output-on-failure > "$
 tail -5 "$log_dir/ctest-cuda.log"
 ctest --test-dir "$build_dir" -j8 --output-on-failure > "$log_dir/ctest-cpu.log" 2>&1 || status=1
 tail -3 "$log_dir/ctest-cpu.log"
-"$build_dir/tests/tear_tests" "*parity*" > "$log_dir/parity.log" 2>&1 || status=1
+TEAR_TEST_DEVICE=cuda "$build_dir/tests/tear_tests" "[parity]" > "$log_dir/parity.log" 2>&1 || status=1
 tail -3 "$log_dir/parity.log"
 exit $status
