@@ -23,23 +23,41 @@ TEAR_HD inline void half_edge_nodes(const index_t* face_nodes, index_t f, int k,
   hi = p < q ? q : p;
 }
 
-/// Histogram of corners by node (`node_count_of` zeroed first).
-struct count_node_corners {
-  const index_t* face_nodes;
-  index_t* node_count_of;
-  TEAR_HD void operator()(index_t c) const { atomic_fetch_add(&node_count_of[face_nodes[c]], 1); }
+// A counting sort of items by key into a CSR (device_topology.h `build_csr_by_counting`): a
+// histogram of the keys (`count_keys`), an exclusive scan into offsets, each item's value put in
+// its key's run through the key's cursor (`fill_by_key`: the order within a run depends on
+// timing), then each run sorted (`sort_runs`), so runs list their values ascending. `Items` gives
+// key(i), a node or −1 for an item that has none, and value(i).
+
+/// Histogram of the items' keys (`tally` zeroed first).
+template <class Items>
+struct count_keys {
+  Items items;
+  index_t* tally;
+  TEAR_HD void operator()(index_t i) const {
+    const index_t k = items.key(i);
+    if (k >= 0) atomic_fetch_add(&tally[k], 1);
+  }
 };
 
-/// Puts each corner's face in its node's run, at a place taken from the node's cursor (its run's
-/// start, copied from the offsets). The order within a run depends on timing; `sort_runs` fixes it.
-struct fill_node_faces {
-  const index_t* face_nodes;
-  index_t* node_cursor;
-  index_t* node_faces;
-  TEAR_HD void operator()(index_t c) const {
-    const index_t at = atomic_fetch_add(&node_cursor[face_nodes[c]], 1);
-    node_faces[at] = c / 3;
+/// Puts each item's value in its key's run, at a place taken from the key's cursor (the run's
+/// start, copied from the offsets).
+template <class Items>
+struct fill_by_key {
+  Items items;
+  index_t* cursor;
+  index_t* values;
+  TEAR_HD void operator()(index_t i) const {
+    const index_t k = items.key(i);
+    if (k >= 0) values[atomic_fetch_add(&cursor[k], 1)] = items.value(i);
   }
+};
+
+/// The corners of the faces keyed by their node, valued by their face: node→faces.
+struct FaceCorners {
+  const index_t* face_nodes;
+  TEAR_HD index_t key(index_t c) const { return face_nodes[c]; }
+  TEAR_HD index_t value(index_t c) const { return c / 3; }
 };
 
 /// Sorts run n of a CSR ascending (insertion sort: runs are a node's valence long). For node→faces,
@@ -58,67 +76,100 @@ struct sort_runs {
   }
 };
 
-/// The smallest higher end greater than `after` of the half-edges, in node n's faces, whose lower
-/// end is n; -1 when there is none.
-TEAR_HD inline index_t next_edge_end(const index_t* face_nodes, const index_t* node_face_offset,
-                                     const index_t* node_faces, index_t n, index_t after) {
-  index_t best = -1;
+/// Calls visit(hi, f) for each half-edge (n, hi) of node n's faces whose lower end is n, faces
+/// ascending (a face repeating n visited once), local edges in order; stops when visit returns false.
+template <class Visit>
+TEAR_HD inline void for_each_lower_half_edge(const index_t* face_nodes, const index_t* node_face_offset,
+                                             const index_t* node_faces, index_t n, Visit visit) {
   for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) {
     const index_t f = node_faces[i];
+    if (i > node_face_offset[n] && node_faces[i - 1] == f) continue;  // a face repeating n, seen
     for (int k = 0; k < 3; ++k) {
       index_t lo, hi;
       half_edge_nodes(face_nodes, f, k, lo, hi);
-      if (lo == n && hi > after && (best < 0 || hi < best)) best = hi;
+      if (lo == n && !visit(hi, f)) return;
     }
   }
+}
+
+/// The smallest higher end greater than `after` of node n's edges whose lower end is n; -1 when
+/// there is none.
+TEAR_HD inline index_t next_edge_end(const index_t* face_nodes, const index_t* node_face_offset,
+                                     const index_t* node_faces, index_t n, index_t after) {
+  index_t best = -1;
+  for_each_lower_half_edge(face_nodes, node_face_offset, node_faces, n, [&](index_t hi, index_t) {
+    if (hi > after && (best < 0 || hi < best)) best = hi;
+    return true;
+  });
   return best;
 }
 
-/// The edges whose lower node is n, gathered in one pass over its faces: higher ends ascending,
-/// each with its number of half-edges and its first two faces (faces ascending). Holds up to
-/// `capacity` edges; a node with more sets `overflow`, and the caller enumerates them with
-/// `next_edge_end` instead (slower: one pass over the faces per edge).
+/// An edge of a node: its higher end, its number of half-edges and its first two faces (ascending).
+struct NodeEdge {
+  index_t end = -1, count = 0, face[2] = {-1, -1};
+  TEAR_HD void add_face(index_t f) {
+    if (count < 2) face[count] = f;
+    ++count;
+  }
+};
+
+/// The edges whose lower node is n, gathered in one pass over its faces, higher ends ascending.
+/// Holds up to `capacity` edges; a node with more sets `overflow`, and the caller enumerates them
+/// with `next_edge_end` and `edge_to` instead (slower: one pass over the faces per edge).
 struct NodeEdgeList {
   static constexpr int capacity = 8;
   int size = 0;
   bool overflow = false;
-  index_t end[capacity], count[capacity], face[capacity][2];
+  NodeEdge edge[capacity];
 
   TEAR_HD void gather(const index_t* face_nodes, const index_t* node_face_offset, const index_t* node_faces,
                       index_t n) {
-    for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) {
-      const index_t f = node_faces[i];
-      if (i > node_face_offset[n] && node_faces[i - 1] == f) continue;  // a face repeating n, seen
-      for (int k = 0; k < 3; ++k) {
-        index_t lo, hi;
-        half_edge_nodes(face_nodes, f, k, lo, hi);
-        if (lo != n) continue;
-        int j = 0;
-        while (j < size && end[j] < hi) ++j;
-        if (j < size && end[j] == hi) {
-          if (count[j] < 2) face[j][count[j]] = f;
-          ++count[j];
-          continue;
-        }
+    for_each_lower_half_edge(face_nodes, node_face_offset, node_faces, n, [&](index_t hi, index_t f) {
+      int j = 0;
+      while (j < size && edge[j].end < hi) ++j;
+      if (j == size || edge[j].end != hi) {
         if (size == capacity) {
           overflow = true;
-          return;
+          return false;
         }
-        for (int m = size; m > j; --m) {
-          end[m] = end[m - 1];
-          count[m] = count[m - 1];
-          face[m][0] = face[m - 1][0];
-          face[m][1] = face[m - 1][1];
-        }
-        end[j] = hi;
-        count[j] = 1;
-        face[j][0] = f;
-        face[j][1] = -1;
+        for (int m = size; m > j; --m) edge[m] = edge[m - 1];
+        edge[j] = NodeEdge{};
+        edge[j].end = hi;
         ++size;
       }
-    }
+      edge[j].add_face(f);
+      return true;
+    });
   }
 };
+
+/// Edge (n, end) of lower node n, gathered by its own pass over n's faces.
+TEAR_HD inline NodeEdge edge_to(const index_t* face_nodes, const index_t* node_face_offset, const index_t* node_faces,
+                                index_t n, index_t end) {
+  NodeEdge e;
+  e.end = end;
+  for_each_lower_half_edge(face_nodes, node_face_offset, node_faces, n, [&](index_t hi, index_t f) {
+    if (hi == end) e.add_face(f);
+    return true;
+  });
+  return e;
+}
+
+/// Calls visit(edge) for each edge whose lower node is n, higher ends ascending: from the one-pass
+/// list, or edge by edge when the node has more edges than the list holds.
+template <class Visit>
+TEAR_HD inline void for_each_node_edge(const index_t* face_nodes, const index_t* node_face_offset,
+                                       const index_t* node_faces, index_t n, Visit visit) {
+  NodeEdgeList list;
+  list.gather(face_nodes, node_face_offset, node_faces, n);
+  if (!list.overflow) {
+    for (int j = 0; j < list.size; ++j) visit(list.edge[j]);
+    return;
+  }
+  for (index_t end = next_edge_end(face_nodes, node_face_offset, node_faces, n, -1); end >= 0;
+       end = next_edge_end(face_nodes, node_face_offset, node_faces, n, end))
+    visit(edge_to(face_nodes, node_face_offset, node_faces, n, end));
+}
 
 /// Number of edges whose lower node is n: the distinct higher ends of its half-edges.
 struct count_node_edges {
@@ -127,16 +178,8 @@ struct count_node_edges {
   const index_t* node_faces;
   index_t* node_edge_count;
   TEAR_HD void operator()(index_t n) const {
-    NodeEdgeList list;
-    list.gather(face_nodes, node_face_offset, node_faces, n);
-    if (!list.overflow) {
-      node_edge_count[n] = list.size;
-      return;
-    }
     index_t count = 0;
-    for (index_t end = next_edge_end(face_nodes, node_face_offset, node_faces, n, -1); end >= 0;
-         end = next_edge_end(face_nodes, node_face_offset, node_faces, n, end))
-      ++count;
+    for_each_node_edge(face_nodes, node_face_offset, node_faces, n, [&](const NodeEdge&) { ++count; });
     node_edge_count[n] = count;
   }
 };
@@ -153,39 +196,18 @@ struct write_node_edges {
   index_t* edge_faces;
   index_t* edge_face_count;
   std::uint8_t* edge_boundary;
-  TEAR_HD void write(index_t e, index_t n, index_t end, index_t count, index_t face0, index_t face1) const {
+  TEAR_HD void write(index_t e, index_t n, const NodeEdge& edge) const {
     edge_nodes[2 * e] = n;
-    edge_nodes[2 * e + 1] = end;
-    edge_face_count[e] = count;
-    edge_faces[2 * e] = face0;
-    edge_faces[2 * e + 1] = face1;
-    edge_boundary[e] = count == 1 ? 1 : 0;
+    edge_nodes[2 * e + 1] = edge.end;
+    edge_face_count[e] = edge.count;
+    edge_faces[2 * e] = edge.face[0];
+    edge_faces[2 * e + 1] = edge.face[1];
+    edge_boundary[e] = edge.count == 1 ? 1 : 0;
   }
 
   TEAR_HD void operator()(index_t n) const {
     index_t e = node_edge_offset[n];
-    NodeEdgeList list;
-    list.gather(face_nodes, node_face_offset, node_faces, n);
-    if (!list.overflow) {
-      for (int j = 0; j < list.size; ++j) write(e + j, n, list.end[j], list.count[j], list.face[j][0], list.face[j][1]);
-      return;
-    }
-    for (index_t end = next_edge_end(face_nodes, node_face_offset, node_faces, n, -1); end >= 0;
-         end = next_edge_end(face_nodes, node_face_offset, node_faces, n, end), ++e) {
-      index_t count = 0, faces[2] = {-1, -1};
-      for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) {
-        const index_t f = node_faces[i];
-        if (i > node_face_offset[n] && node_faces[i - 1] == f) continue;  // a face repeating n, seen
-        for (int k = 0; k < 3; ++k) {
-          index_t lo, hi;
-          half_edge_nodes(face_nodes, f, k, lo, hi);
-          if (lo != n || hi != end) continue;
-          if (count < 2) faces[count] = f;
-          ++count;
-        }
-      }
-      write(e, n, end, count, faces[0], faces[1]);
-    }
+    for_each_node_edge(face_nodes, node_face_offset, node_faces, n, [&](const NodeEdge& edge) { write(e++, n, edge); });
   }
 };
 

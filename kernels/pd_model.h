@@ -154,26 +154,12 @@ struct is_positive {
   TEAR_HD bool operator()(float weight) const { return weight > 0.0f; }
 };
 
-/// Histogram of the used constraint slots by node (`node_count_of` zeroed first).
-struct count_node_slots {
+/// The used constraint slots keyed by their node, valued by themselves: node→constraint slots, in
+/// slot (so constraint) order once counted and sorted (build_topology.h `count_keys`).
+struct ConstraintSlots {
   PdConstraints constraints;
-  index_t* node_count_of;
-  TEAR_HD void operator()(index_t s) const {
-    const index_t n = constraints.slot_node(s);
-    if (n >= 0) atomic_fetch_add(&node_count_of[n], 1);
-  }
-};
-
-/// Puts each used slot in its node's run through the node's cursor; the runs are sorted afterwards
-/// (`sort_runs`), so each node lists its slots, and so its constraints, in index order.
-struct fill_node_slots {
-  PdConstraints constraints;
-  index_t* node_cursor;
-  index_t* node_slots;
-  TEAR_HD void operator()(index_t s) const {
-    const index_t n = constraints.slot_node(s);
-    if (n >= 0) node_slots[atomic_fetch_add(&node_cursor[n], 1)] = s;
-  }
+  TEAR_HD index_t key(index_t s) const { return constraints.slot_node(s); }
+  TEAR_HD index_t value(index_t s) const { return s; }
 };
 
 /// The Jacobi diagonal: M/h² + Σ_c w_c βᵢ kᵢ² at each node, gathered over its slots, with

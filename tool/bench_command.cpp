@@ -48,6 +48,29 @@ void print_scene_row(const SceneBenchRow& r, const SceneBenchRow* cpu) {
   std::printf("\n");
 }
 
+/// Runs one part size by size: `run(options of one size, device)` gives the size's row, printed
+/// (after the CPU's, with the ratio, when `with_cpu`) and returned with the CPU's in the JSON rows.
+template <class Run, class Print>
+nlohmann::json run_sizes(const BenchOptions& options, Device device, bool with_cpu, Run run, Print print) {
+  nlohmann::json rows = nlohmann::json::array();
+  for (index_t faces : options.face_counts) {
+    BenchOptions one = options;
+    one.face_counts = {faces};
+    const auto row = run(one, device);
+    rows.push_back(to_json(row));
+    if (with_cpu) {
+      const auto cpu = run(one, Device::cpu);
+      rows.push_back(to_json(cpu));
+      print(cpu, nullptr);
+      print(row, &cpu);
+    } else {
+      print(row, nullptr);
+    }
+    std::fflush(stdout);
+  }
+  return rows;
+}
+
 bool wanted(const BenchArgs& args, const std::string& part) {
   if (args.only.empty()) return true;
   for (const std::string& p : args.only)
@@ -92,23 +115,9 @@ void run_bench(const BenchArgs& args) {
       std::printf("  %8.8s", to_string(static_cast<CutStage>(s)));
     std::printf("  %9s  %7s%s\n", "peak MiB", "B/face", with_cpu ? "  cpu/gpu" : "");
     std::fflush(stdout);
-    nlohmann::json rows = nlohmann::json::array();
-    for (index_t faces : options.face_counts) {
-      BenchOptions one = options;
-      one.face_counts = {faces};
-      const BenchRow row = run_remesh_bench(one, device)[0];
-      rows.push_back(to_json(row));
-      if (with_cpu) {
-        const BenchRow cpu = run_remesh_bench(one, Device::cpu)[0];
-        rows.push_back(to_json(cpu));
-        print_remesh_row(cpu, nullptr);
-        print_remesh_row(row, &cpu);
-      } else {
-        print_remesh_row(row, nullptr);
-      }
-      std::fflush(stdout);
-    }
-    doc["remesh"] = rows;
+    doc["remesh"] = run_sizes(
+        options, device, with_cpu, [](const BenchOptions& one, Device d) { return run_remesh_bench(one, d)[0]; },
+        print_remesh_row);
   }
 
   if (wanted(args, "pd")) {
@@ -120,22 +129,12 @@ void run_bench(const BenchArgs& args) {
     std::printf("\n%10s  %9s  %-4s  %9s  %10s  %12s  %9s  %9s  %9s%s\n", "faces", "nodes", "dev", "step", "iteration",
                 "node-it/s", "B/node-it", "floor", "peak MiB", with_cpu ? "  cpu/gpu" : "");
     std::fflush(stdout);
-    nlohmann::json rows = nlohmann::json::array();
-    for (index_t faces : options.face_counts) {
-      BenchOptions one = options;
-      one.face_counts = {faces};
-      const PdBenchRow row = run_pd_bench(one, device, bandwidth)[0];
-      rows.push_back(to_json(row));
-      if (with_cpu) {
-        const PdBenchRow cpu = run_pd_bench(one, Device::cpu, cpu_bandwidth)[0];
-        rows.push_back(to_json(cpu));
-        print_pd_row(cpu, nullptr);
-        print_pd_row(row, &cpu);
-      } else {
-        print_pd_row(row, nullptr);
-      }
-      std::fflush(stdout);
-    }
+    const nlohmann::json rows = run_sizes(
+        options, device, with_cpu,
+        [&](const BenchOptions& one, Device d) {
+          return run_pd_bench(one, d, d == device ? bandwidth : cpu_bandwidth)[0];
+        },
+        print_pd_row);
     doc["copy_bandwidth_bytes_per_s"] = bandwidth;
     if (with_cpu) doc["cpu_copy_bandwidth_bytes_per_s"] = cpu_bandwidth;
     doc["pd"] = rows;

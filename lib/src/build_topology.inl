@@ -24,20 +24,10 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
   topo.face_count = face_count;
   const std::size_t nodes_and_end = static_cast<std::size_t>(node_count) + 1;
 
-  // Node→faces: corners counted per node, the counts scanned into offsets, each corner's face put
-  // in its node's run, each run sorted (faces ascending).
+  // Node→faces: the corners counting-sorted by node (faces ascending in each node's run).
   auto& node_tally = scratch.node_tally;
-  resize_with_headroom(node_tally, nodes_and_end);
-  thrust::fill(policy, node_tally.begin(), node_tally.end(), 0);
-  thrust::for_each(policy, zero, zero + half_count, count_node_corners{raw<index_t>(face_nodes), raw<index_t>(node_tally)});
-  resize_with_headroom(topo.node_face_offset, nodes_and_end);
-  thrust::exclusive_scan(policy, node_tally.begin(), node_tally.end(), topo.node_face_offset.begin());
-  thrust::copy(policy, topo.node_face_offset.begin(), topo.node_face_offset.end(), node_tally.begin());  // cursors
-  resize_with_headroom(topo.node_faces, half_count);
-  thrust::for_each(policy, zero, zero + half_count,
-                   fill_node_faces{raw<index_t>(face_nodes), raw<index_t>(node_tally), raw<index_t>(topo.node_faces)});
-  thrust::for_each(policy, zero, zero + node_count,
-                   sort_runs{raw<index_t>(topo.node_face_offset), raw<index_t>(topo.node_faces)});
+  build_csr_by_counting<System>(policy, FaceCorners{raw<index_t>(face_nodes)}, half_count, node_count, half_count,
+                                node_tally, topo.node_face_offset, topo.node_faces);
 
   // Edges: counted at their lower node, numbered by a scan of the counts, written in (low, high)
   // order with their faces.

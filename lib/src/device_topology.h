@@ -2,8 +2,13 @@
 #pragma once
 
 #include <thrust/copy.h>
+#include <thrust/fill.h>
+#include <thrust/for_each.h>
+#include <thrust/iterator/counting_iterator.h>
+#include <thrust/scan.h>
 
 #include "backend.h"
+#include "build_topology.h"
 #include "tear/topology.h"
 #include "temporary_allocator.h"
 
@@ -39,6 +44,28 @@ Topology download(const DeviceTopology<System>& d) {
   t.edge_boundary = to_host<std::uint8_t>(d.edge_boundary);
   t.node_boundary = to_host<std::uint8_t>(d.node_boundary);
   return t;
+}
+
+/// The CSR of `item_count` items by key over `key_count` keys, by counting (kernels/build_topology.h):
+/// `offset` [key_count + 1], `values` the items' values run by run, each run ascending; `tally`
+/// [key_count + 1] is scratch. `value_count` is the number of items with a key when the caller
+/// knows it; negative, it is read back from the device.
+template <class System, class Policy, class Items>
+void build_csr_by_counting(const Policy& policy, Items items, index_t item_count, index_t key_count,
+                           index_t value_count, vector<System, index_t>& tally, vector<System, index_t>& offset,
+                           vector<System, index_t>& values) {
+  const thrust::counting_iterator<index_t> zero(0);
+  const std::size_t ends = static_cast<std::size_t>(key_count) + 1;
+  resize_with_headroom(tally, ends);
+  thrust::fill(policy, tally.begin(), tally.end(), 0);
+  thrust::for_each(policy, zero, zero + item_count, kernels::count_keys<Items>{items, raw<index_t>(tally)});
+  resize_with_headroom(offset, ends);
+  thrust::exclusive_scan(policy, tally.begin(), tally.end(), offset.begin());
+  thrust::copy(policy, offset.begin(), offset.end(), tally.begin());  // the cursors
+  resize_with_headroom(values, value_count >= 0 ? value_count : static_cast<index_t>(offset[key_count]));
+  thrust::for_each(policy, zero, zero + item_count,
+                   kernels::fill_by_key<Items>{items, raw<index_t>(tally), raw<index_t>(values)});
+  thrust::for_each(policy, zero, zero + key_count, kernels::sort_runs{raw<index_t>(offset), raw<index_t>(values)});
 }
 
 /// Working arrays of `build_device_topology`, kept between builds so they only grow.

@@ -10,7 +10,6 @@
 #include <thrust/count.h>
 #include <thrust/for_each.h>
 #include <thrust/iterator/counting_iterator.h>
-#include <thrust/scan.h>
 
 #include "backend.h"
 #include "build_topology.h"
@@ -26,7 +25,6 @@
 #include "tear/error.h"
 
 namespace tear::backend {
-
 
 /// How the CUDA backend launches a substep, from TEAR_CUDA_LAUNCH: `persistent` (the default: one
 /// cooperative kernel runs the whole substep, the grid synchronising between the passes, on meshes
@@ -45,22 +43,45 @@ inline LaunchMode launch_mode() {
   throw runtime_error("TEAR_CUDA_LAUNCH=" + mode + ": expected persistent, graph or plain");
 }
 
-#if TEAR_CUDA_SYSTEM
-/// One substep's kernels with their arguments; the iterate pointers and ω are set per iteration.
-struct PersistentSubstep {
+/// The kernels of one substep with their arguments, built in one place for every way of launching
+/// them. The iterate pointers and ω are set per iteration (`iteration`), the last iterate for the
+/// velocity update (`finish_from`).
+struct SubstepKernels {
   kernels::predict_positions predict;
   kernels::project_constraints project;
   kernels::jacobi_chebyshev_update update;
   kernels::finish_step finish;
   index_t node_count, constraint_count;
   int iterations;
-  const float* omega;  // [iterations]
+  const float* omega;  // [iterations], ω of each iteration (on the backend for the persistent kernel)
   float* iter[3];
+
+  /// Iteration k reads iterates `cur` and `prev` and writes `next`.
+  TEAR_HD void iteration(int k, int cur, int prev, int next) {
+    project.node_iter = iter[cur];
+    update.node_iter = iter[cur];
+    update.node_iter_prev = iter[prev];
+    update.node_iter_next = iter[next];
+    update.omega = omega[k];
+  }
+  TEAR_HD void finish_from(int cur) { finish.node_iter = iter[cur]; }
 };
+
+/// Rotates the three iterate slots after an iteration: the next becomes current, the current
+/// previous, the previous free.
+TEAR_HD inline void rotate_iterates(int& cur, int& prev, int& next) {
+  const int old_prev = prev;
+  prev = cur;
+  cur = next;
+  next = old_prev;
+}
+
+#if TEAR_CUDA_SYSTEM
+inline constexpr int persistent_block = 256;  ///< threads per block of the persistent kernel
 
 /// The whole substep in one cooperative kernel: each pass a grid-stride loop over its elements
 /// calling the same functor as its own launch would, the grid synchronised between passes.
-__global__ void persistent_substep_kernel(PersistentSubstep s) {
+__global__ void persistent_substep_kernel(SubstepKernels s) {
   cooperative_groups::grid_group grid = cooperative_groups::this_grid();
   const index_t first = static_cast<index_t>(blockIdx.x * blockDim.x + threadIdx.x);
   const index_t stride = static_cast<index_t>(gridDim.x * blockDim.x);
@@ -68,25 +89,15 @@ __global__ void persistent_substep_kernel(PersistentSubstep s) {
   grid.sync();
   int cur = 0, prev = 1, next = 2;
   for (int k = 0; k < s.iterations; ++k) {
-    kernels::project_constraints project = s.project;
-    project.node_iter = s.iter[cur];
-    for (index_t c = first; c < s.constraint_count; c += stride) project(c);
+    s.iteration(k, cur, prev, next);
+    for (index_t c = first; c < s.constraint_count; c += stride) s.project(c);
     grid.sync();
-    kernels::jacobi_chebyshev_update update = s.update;
-    update.node_iter = s.iter[cur];
-    update.node_iter_prev = s.iter[prev];
-    update.node_iter_next = s.iter[next];
-    update.omega = s.omega[k];
-    for (index_t n = first; n < s.node_count; n += stride) update(n);
+    for (index_t n = first; n < s.node_count; n += stride) s.update(n);
     grid.sync();
-    const int old_prev = prev;
-    prev = cur;
-    cur = next;
-    next = old_prev;
+    rotate_iterates(cur, prev, next);
   }
-  kernels::finish_step finish = s.finish;
-  finish.node_iter = s.iter[cur];
-  for (index_t n = first; n < s.node_count; n += stride) finish(n);
+  s.finish_from(cur);
+  for (index_t n = first; n < s.node_count; n += stride) s.finish(n);
 }
 #endif
 
@@ -122,6 +133,12 @@ class PdSolverOn final : public PdSolver::Impl {
         node_pos_(3 * static_cast<std::size_t>(node_count), 0.0f),
         node_vel_(3 * static_cast<std::size_t>(node_count), 0.0f) {
     launch_mode_ = launch_mode();
+    const auto& cheb = options.chebyshev;
+    omega_host_.resize(static_cast<std::size_t>(options.iterations));
+    double omega = 1.0;
+    for (int k = 0; k < options.iterations; ++k)
+      omega_host_[k] = static_cast<float>(omega = kernels::chebyshev_omega(k, cheb.delay, cheb.rho, omega));
+    omega_.assign(omega_host_.begin(), omega_host_.end());
     node_pred_.resize(3 * static_cast<std::size_t>(node_count));
     for (auto& iter : node_iter_) iter.resize(3 * static_cast<std::size_t>(node_count));
     std::vector<kernels::PdCollider> colliders;
@@ -189,9 +206,13 @@ class PdSolverOn final : public PdSolver::Impl {
     return {edge_count_,           raw<index_t>(spring_nodes_), raw<float>(spring_weight_), raw<float>(spring_rest_),
             raw<index_t>(hinge_nodes_), raw<float>(hinge_coef_),  raw<float>(hinge_weight_), raw<float>(hinge_rest_)};
   }
+  /// The substep's kernels; `omega` is where ω lives for whoever reads it.
+  SubstepKernels substep_kernels(const float* omega);
   template <class Policy>
   void enqueue_substep(const Policy& policy);
-  /// Runs the frame's substeps as persistent kernels; false where this backend or device cannot.
+  /// Grid size of the persistent kernel for this mesh on this device, 0 where it is not used.
+  int persistent_grid();
+  /// Runs the frame's substeps as persistent kernels; false where they are not used.
   bool step_persistent();
 
   SimulationOptions options_;
@@ -212,7 +233,9 @@ class PdSolverOn final : public PdSolver::Impl {
   vec<float> node_iter_[3];
   ReplayGraph<System> step_graph_;  // the launches of one substep, recorded on the first step
   LaunchMode launch_mode_ = LaunchMode::persistent;
-  vec<float> omega_;  // ω of each iteration, for the persistent kernel
+  int persistent_grid_ = -1;        // not decided yet
+  std::vector<float> omega_host_;   // ω of each iteration (Wang 2015, eq. 11)
+  vec<float> omega_;                // the same on the backend, for the persistent kernel
 };
 
 template <class System>
@@ -247,19 +270,12 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
       thrust::count_if(policy, spring_weight_.begin(), spring_weight_.end(), is_positive{}) +
       thrust::count_if(policy, hinge_weight_.begin(), hinge_weight_.end(), is_positive{}));
 
-  // Node→constraint CSR by counting: slots counted per node, the counts scanned into offsets, the
-  // slots put in their nodes' runs and each run sorted, so a node's constraints come in index
-  // order, the fixed order its Jacobi update sums them in.
+  // Node→constraint CSR: the used slots counting-sorted by node, so a node's constraints come in
+  // index order, the fixed order its Jacobi update sums them in.
   const PdConstraints model = constraints();
-  vec<index_t> node_tally(static_cast<std::size_t>(node_count_) + 1, 0);
-  thrust::for_each(policy, zero, zero + model.slot_count(), count_node_slots{model, raw<index_t>(node_tally)});
-  node_slot_offset_.resize(static_cast<std::size_t>(node_count_) + 1);
-  thrust::exclusive_scan(policy, node_tally.begin(), node_tally.end(), node_slot_offset_.begin());
-  thrust::copy(policy, node_slot_offset_.begin(), node_slot_offset_.end(), node_tally.begin());
-  node_slots_.resize(node_slot_offset_[node_count_]);
-  thrust::for_each(policy, zero, zero + model.slot_count(),
-                   fill_node_slots{model, raw<index_t>(node_tally), raw<index_t>(node_slots_)});
-  thrust::for_each(policy, zero, zero + node_count_, sort_runs{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_)});
+  vec<index_t> node_tally;
+  build_csr_by_counting<System>(policy, ConstraintSlots{model}, model.slot_count(), node_count_, -1, node_tally,
+                                node_slot_offset_, node_slots_);
 
   const double h = options_.step_seconds();
   node_diag_.resize(node_count_);
@@ -283,117 +299,100 @@ void PdSolverOn<System>::step() {
 }
 
 template <class System>
-bool PdSolverOn<System>::step_persistent() {
-  return false;
-}
-
-#if TEAR_CUDA_SYSTEM
-template <>
-bool PdSolverOn<Cuda>::step_persistent() {
+SubstepKernels PdSolverOn<System>::substep_kernels(const float* omega) {
   using namespace kernels;
-  static const int block = 256;
-  int device = 0, cooperative = 0, sms = 0, blocks_per_sm = 0;
-  if (cudaGetDevice(&device) != cudaSuccess ||
-      cudaDeviceGetAttribute(&cooperative, cudaDevAttrCooperativeLaunch, device) != cudaSuccess || !cooperative ||
-      cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device) != cudaSuccess ||
-      cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks_per_sm, persistent_substep_kernel, block, 0) !=
-          cudaSuccess ||
-      blocks_per_sm == 0) {
-    cudaGetLastError();
-    launch_mode_ = LaunchMode::graph;  // not on this device: do not ask again
-    return false;
-  }
   const double h = options_.step_seconds();
-  const auto& cheb = options_.chebyshev;
-  if (omega_.size() != static_cast<std::size_t>(options_.iterations)) {
-    std::vector<float> omega(static_cast<std::size_t>(options_.iterations));
-    double w = 1.0;
-    for (int k = 0; k < options_.iterations; ++k) omega[k] = static_cast<float>(w = chebyshev_omega(k, cheb.delay, cheb.rho, w));
-    omega_.assign(omega.begin(), omega.end());
-  }
-  PersistentSubstep s{};
-  s.predict = predict_positions{raw<float>(node_pos_), raw<float>(node_vel_), raw<std::uint8_t>(node_pinned_),
-                                static_cast<float>(h),
-                                Vec3f{static_cast<float>(options_.gravity[0]), static_cast<float>(options_.gravity[1]),
-                                      static_cast<float>(options_.gravity[2])},
-                                raw<float>(node_pred_), raw<float>(node_iter_[0]), raw<float>(node_iter_[1])};
+  const Vec3f gravity{static_cast<float>(options_.gravity[0]), static_cast<float>(options_.gravity[1]),
+                      static_cast<float>(options_.gravity[2])};
   const PdConstraints model = constraints();
+  SubstepKernels s{};
+  // Inertial prediction (Bouaziz et al. 2014, eq. 9): the first iterate.
+  s.predict = predict_positions{raw<float>(node_pos_), raw<float>(node_vel_), raw<std::uint8_t>(node_pinned_),
+                                static_cast<float>(h), gravity, raw<float>(node_pred_), raw<float>(node_iter_[0]),
+                                raw<float>(node_iter_[1])};
+  // Local step: every constraint's projection at the current iterate (§4.1).
   s.project = project_constraints{model, nullptr, raw<float>(constraint_force_)};
+  // Global step: one Chebyshev-weighted Jacobi update per node (Wang 2015, §4).
   s.update = jacobi_chebyshev_update{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), model,
                                      raw<float>(constraint_force_), raw<float>(node_mass_), raw<float>(node_diag_),
                                      raw<std::uint8_t>(node_pinned_), raw<float>(node_pred_), nullptr, nullptr,
-                                     static_cast<float>(1.0 / (h * h)), 0.0f, static_cast<float>(cheb.gamma), nullptr};
+                                     static_cast<float>(1.0 / (h * h)), 0.0f,
+                                     static_cast<float>(options_.chebyshev.gamma), nullptr};
+  // Velocity update, damping and colliders.
   s.finish = finish_step{raw<std::uint8_t>(node_pinned_), nullptr, static_cast<float>(1.0 / h),
                          static_cast<float>(std::pow(1.0 - options_.damping, h)), raw<PdCollider>(colliders_),
                          static_cast<index_t>(colliders_.size()), raw<float>(node_pos_), raw<float>(node_vel_)};
   s.node_count = node_count_;
   s.constraint_count = constraint_count_;
   s.iterations = options_.iterations;
-  s.omega = raw<float>(omega_);
+  s.omega = omega;
   for (int i = 0; i < 3; ++i) s.iter[i] = raw<float>(node_iter_[i]);
-  // Only while each thread has at most a few elements per pass: on larger meshes separate launches,
-  // replayed as a graph, measured faster (H100: 4.2 against 3.7 ms per 100 iterations at 131,797
-  // nodes, 1.3 against 1.8 ms at 19,426).
-  const index_t work = node_count_ > constraint_count_ ? node_count_ : constraint_count_;
-  const long long wanted = (static_cast<long long>(work) + block - 1) / block;
-  const long long resident = static_cast<long long>(sms) * blocks_per_sm;
-  if (wanted > 4 * resident) return false;
-  const int grid = static_cast<int>(wanted < resident ? (wanted > 0 ? wanted : 1) : resident);
-  void* args[] = {&s};
-  for (int i = 0; i < options_.substeps; ++i) {
-    const cudaError_t status = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(persistent_substep_kernel),
-                                                           dim3(grid), dim3(block), args, 0, 0);
-    if (status != cudaSuccess)
-      throw runtime_error(std::string("the solver's kernel could not be launched: ") + cudaGetErrorString(status));
-  }
-  return true;
+  return s;
 }
-#endif
 
 template <class System>
 template <class Policy>
 void PdSolverOn<System>::enqueue_substep(const Policy& policy) {
-  using namespace kernels;
   const thrust::counting_iterator<index_t> zero(0);
-  const double h = options_.step_seconds();
-  const float inv_h2 = static_cast<float>(1.0 / (h * h));
-  const Vec3f gravity{static_cast<float>(options_.gravity[0]), static_cast<float>(options_.gravity[1]),
-                      static_cast<float>(options_.gravity[2])};
-  const float velocity_scale = static_cast<float>(std::pow(1.0 - options_.damping, h));
-  const auto& cheb = options_.chebyshev;
-  const float gamma = static_cast<float>(cheb.gamma);
-
-  // Inertial prediction (Bouaziz et al. 2014, eq. 9): the first iterate.
-  thrust::for_each(policy, zero, zero + node_count_,
-                   predict_positions{raw<float>(node_pos_), raw<float>(node_vel_), raw<std::uint8_t>(node_pinned_),
-                                     static_cast<float>(h), gravity, raw<float>(node_pred_), raw<float>(node_iter_[0]),
-                                     raw<float>(node_iter_[1])});
-  const PdConstraints model = constraints();
+  SubstepKernels s = substep_kernels(omega_host_.data());
+  thrust::for_each(policy, zero, zero + node_count_, s.predict);
   int cur = 0, prev = 1, next = 2;
-  double omega = 1.0;
   for (int k = 0; k < options_.iterations; ++k) {
-    omega = chebyshev_omega(k, cheb.delay, cheb.rho, omega);
-    // Local step: every constraint's projection at the current iterate (§4.1).
-    thrust::for_each(policy, zero, zero + constraint_count_,
-                     project_constraints{model, raw<float>(node_iter_[cur]), raw<float>(constraint_force_)});
-    // Global step: one Chebyshev-weighted Jacobi update per node (Wang 2015, §4).
-    thrust::for_each(policy, zero, zero + node_count_,
-                     jacobi_chebyshev_update{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), model,
-                                             raw<float>(constraint_force_), raw<float>(node_mass_),
-                                             raw<float>(node_diag_), raw<std::uint8_t>(node_pinned_),
-                                             raw<float>(node_pred_), raw<float>(node_iter_[cur]),
-                                             raw<float>(node_iter_[prev]), inv_h2, static_cast<float>(omega), gamma,
-                                             raw<float>(node_iter_[next])});
-    const int old_prev = prev;
-    prev = cur;
-    cur = next;
-    next = old_prev;
+    s.iteration(k, cur, prev, next);
+    thrust::for_each(policy, zero, zero + constraint_count_, s.project);
+    thrust::for_each(policy, zero, zero + node_count_, s.update);
+    rotate_iterates(cur, prev, next);
   }
-  // Velocity update, damping and colliders.
-  thrust::for_each(policy, zero, zero + node_count_,
-                   finish_step{raw<std::uint8_t>(node_pinned_), raw<float>(node_iter_[cur]), static_cast<float>(1.0 / h),
-                               velocity_scale, raw<PdCollider>(colliders_), static_cast<index_t>(colliders_.size()),
-                               raw<float>(node_pos_), raw<float>(node_vel_)});
+  s.finish_from(cur);
+  thrust::for_each(policy, zero, zero + node_count_, s.finish);
+}
+
+template <class System>
+int PdSolverOn<System>::persistent_grid() {
+  return 0;
+}
+
+#if TEAR_CUDA_SYSTEM
+template <>
+int PdSolverOn<Cuda>::persistent_grid() {
+  int device = 0, cooperative = 0, sms = 0, blocks_per_sm = 0;
+  if (cudaGetDevice(&device) != cudaSuccess ||
+      cudaDeviceGetAttribute(&cooperative, cudaDevAttrCooperativeLaunch, device) != cudaSuccess || !cooperative ||
+      cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device) != cudaSuccess ||
+      cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks_per_sm, persistent_substep_kernel, persistent_block, 0) !=
+          cudaSuccess ||
+      blocks_per_sm == 0) {
+    cudaGetLastError();  // clear the error of a refused query
+    return 0;
+  }
+  // Only while each thread has at most a few elements per pass: on larger meshes separate launches,
+  // replayed as a graph, measured faster (H100: 4.2 against 3.7 ms per 100 iterations at 131,797
+  // nodes, 1.3 against 1.8 ms at 19,426).
+  const index_t work = node_count_ > constraint_count_ ? node_count_ : constraint_count_;
+  const long long wanted = (static_cast<long long>(work) + persistent_block - 1) / persistent_block;
+  const long long resident = static_cast<long long>(sms) * blocks_per_sm;
+  if (wanted > 4 * resident) return 0;
+  return static_cast<int>(wanted < resident ? (wanted > 0 ? wanted : 1) : resident);
+}
+#endif
+
+template <class System>
+bool PdSolverOn<System>::step_persistent() {
+  if (persistent_grid_ < 0) persistent_grid_ = persistent_grid();  // the device and mesh do not change
+  if (persistent_grid_ == 0) return false;
+#if TEAR_CUDA_SYSTEM
+  SubstepKernels s = substep_kernels(raw<float>(omega_));
+  void* args[] = {&s};
+  for (int i = 0; i < options_.substeps; ++i) {
+    const cudaError_t status = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(persistent_substep_kernel),
+                                                           dim3(persistent_grid_), dim3(persistent_block), args, 0, 0);
+    if (status != cudaSuccess)
+      throw runtime_error(std::string("the solver's kernel could not be launched: ") + cudaGetErrorString(status));
+  }
+  return true;
+#else
+  return false;
+#endif
 }
 
 template <class System>

@@ -1,5 +1,6 @@
 #include "tear/run_cuts.h"
 
+#include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
@@ -71,7 +72,13 @@ class FrameSimulation {
  private:
   void rebuild(const Cloth& cloth) {
     const index_t node_count = cloth.node_count();
-    if (solver_) carry_listed_pins(cloth.provenance(), node_count);
+    if (solver_) {
+      // After a cut: the provenance (a download) is only needed while a listed pin is left to carry.
+      if (std::find(node_listed_.begin(), node_listed_.end(), 1) != node_listed_.end())
+        carry_listed_pins(cloth.provenance(), node_count);
+      else
+        node_listed_.assign(static_cast<std::size_t>(node_count), 0);
+    }
     const std::vector<float> node_rest = cloth.node_rest();
     std::vector<std::uint8_t> node_pinned = resolve_pins(box_pins_, node_rest, node_count);
     for (index_t n = 0; n < node_count; ++n) node_pinned[n] |= node_listed_[n];
