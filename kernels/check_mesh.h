@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdint>
 
-#include "backend.h"
+#include "hd.h"
 
 namespace tear::kernels {
 

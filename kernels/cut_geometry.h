@@ -8,7 +8,7 @@
 
 #include <cstdint>
 
-#include "backend.h"
+#include "hd.h"
 
 namespace tear::kernels {
 

@@ -4,7 +4,7 @@
 
 #include <cstdint>
 
-#include "backend.h"
+#include "hd.h"
 #include "cut_geometry.h"
 #include "intersect_cuts.h"
 #include "split_table.h"

@@ -8,7 +8,7 @@
 
 #include <cstdint>
 
-#include "backend.h"
+#include "hd.h"
 #include "cut_geometry.h"
 
 namespace tear::kernels {

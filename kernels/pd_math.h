@@ -3,7 +3,7 @@
 
 #include <cmath>
 
-#include "backend.h"
+#include "hd.h"
 
 namespace tear::kernels {
 

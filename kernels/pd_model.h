@@ -8,7 +8,7 @@
 
 #include <cstdint>
 
-#include "backend.h"
+#include "hd.h"
 #include "pd_math.h"
 
 namespace tear::kernels {

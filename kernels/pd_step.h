@@ -7,7 +7,7 @@
 
 #include <cstdint>
 
-#include "backend.h"
+#include "hd.h"
 #include "pd_math.h"
 #include "pd_model.h"
 

@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <string>
 
-#include "backend.h"
+#include "hd.h"
 
 namespace tear::kernels {
 

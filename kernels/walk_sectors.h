@@ -9,7 +9,7 @@
 
 #include <cstdint>
 
-#include "backend.h"
+#include "hd.h"
 #include "cut_info.h"
 #include "split_table.h"
 

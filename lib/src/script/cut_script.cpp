@@ -1,6 +1,6 @@
 #include "tear/cut_script.h"
 
-#include "json_reader.h"
+#include "script/json_reader.h"
 
 #include <algorithm>
 #include <cerrno>

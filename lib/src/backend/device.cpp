@@ -5,7 +5,7 @@
 #include <atomic>
 #include <string>
 
-#include "device_memory.h"
+#include "backend/device_memory.h"
 
 #include "tear/error.h"
 

@@ -6,7 +6,7 @@
 #include <map>
 #include <new>
 
-#include "backend.h"
+#include "backend/backend.h"
 
 namespace tear::backend {
 

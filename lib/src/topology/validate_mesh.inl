@@ -2,9 +2,9 @@
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/transform_reduce.h>
 
-#include "backend.h"
+#include "backend/backend.h"
 #include "check_mesh.h"
-#include "entry_points.h"
+#include "backend/entry_points.h"
 #include "tear/validate_mesh.h"
 
 namespace tear::backend {

@@ -1,6 +1,6 @@
 #include "tear/mesh_info.h"
 
-#include "disjoint_sets.h"
+#include "topology/disjoint_sets.h"
 
 #include <algorithm>
 #include <cmath>

@@ -1,6 +1,6 @@
 #include "tear/topology.h"
 
-#include "entry_points.h"
+#include "backend/entry_points.h"
 
 namespace tear {
 

@@ -1,4 +1,5 @@
-// tear: the one header that owns the differences between the two backends.
+// tear: the one header that owns the differences between the two backends (host side; the device
+// side's markers are kernels/hd.h).
 //
 // Kernels are written once, as TEAR_HD functors over raw pointers, and launched through Thrust
 // algorithms with the execution policy of a backend system: Thrust's CUDA system on the GPU,
@@ -13,8 +14,9 @@
 #include <thrust/system/omp/execution_policy.h>
 #include <thrust/system/omp/vector.h>
 
-#include "device_memory.h"
-#include "systems.h"
+#include "backend/device_memory.h"
+#include "backend/systems.h"
+#include "hd.h"
 
 #if TEAR_WITH_CUDA && defined(__CUDACC__)
 #include <thrust/system/cuda/execution_policy.h>
@@ -24,35 +26,7 @@
 #define TEAR_CUDA_SYSTEM 0
 #endif
 
-// Functions callable from kernels on both systems. A host compiler (the CPU-only build, or host
-// code including these headers) sees plain functions; __host__/__device__ are never redefined.
-#if defined(__CUDACC__)
-#define TEAR_HD __host__ __device__
-#else
-#define TEAR_HD
-#endif
-// Unrolls the next loop in device code (host compilers do not know the pragma).
-#if defined(__CUDA_ARCH__)
-#define TEAR_UNROLL _Pragma("unroll")
-#else
-#define TEAR_UNROLL
-#endif
 
-namespace tear::kernels {
-/// True for a finite float, on host and device alike (x - x is NaN for NaN and infinities).
-TEAR_HD inline bool is_finite(float x) { return x - x == 0.0f; }
-
-/// Adds `v` to `*p` atomically and returns the old value. Integer only: the sums it makes are exact
-/// whatever the order, so results stay deterministic (positions it hands out are put in order
-/// afterwards by whoever uses them).
-TEAR_HD inline int atomic_fetch_add(int* p, int v) {
-#if defined(__CUDA_ARCH__)
-  return atomicAdd(p, v);
-#else
-  return __atomic_fetch_add(p, v, __ATOMIC_RELAXED);
-#endif
-}
-}  // namespace tear::kernels
 
 namespace tear::backend {
 

@@ -3,8 +3,8 @@
 
 #include <memory>
 
-#include "pd_solver.h"
-#include "systems.h"
+#include "sim/pd_solver.h"
+#include "backend/systems.h"
 #include "tear/cloth.h"
 
 namespace tear {

@@ -9,7 +9,7 @@
 #include "tear/error.h"
 #include "tear/read_mesh.h"
 
-#include "disjoint_sets.h"
+#include "topology/disjoint_sets.h"
 
 namespace tear {
 namespace {

@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include "cloth_engine.h"
+#include "cloth/cloth_engine.h"
 #include "tear/error.h"
 
 namespace tear {

@@ -5,8 +5,8 @@
 #include <thrust/copy.h>
 #include <thrust/fill.h>
 
-#include "backend.h"
-#include "bench_device.h"
+#include "backend/backend.h"
+#include "bench/bench_device.h"
 
 namespace tear::backend {
 

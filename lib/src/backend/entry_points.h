@@ -1,7 +1,7 @@
 // tear: the per-system entry points that host code dispatches to (see systems.h).
 #pragma once
 
-#include "systems.h"
+#include "backend/systems.h"
 #include "tear/mesh.h"
 #include "tear/topology.h"
 #include "tear/validate_mesh.h"

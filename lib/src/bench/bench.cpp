@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <chrono>
 
-#include "bench_device.h"
+#include "bench/bench_device.h"
 #include "tear/demo_scene.h"
 #include "tear/make_sheet.h"
 #include "tear/run_cuts.h"

@@ -3,7 +3,7 @@
 
 #include <cstddef>
 
-#include "systems.h"
+#include "backend/systems.h"
 
 namespace tear::backend {
 

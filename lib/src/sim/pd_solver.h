@@ -3,7 +3,7 @@
 
 #include <memory>
 
-#include "systems.h"
+#include "backend/systems.h"
 #include "tear/simulation.h"
 
 namespace tear {

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "entry_points.h"
+#include "backend/entry_points.h"
 
 namespace tear {
 

@@ -7,10 +7,10 @@
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/scan.h>
 
-#include "backend.h"
+#include "backend/backend.h"
 #include "build_topology.h"
 #include "tear/topology.h"
-#include "temporary_allocator.h"
+#include "backend/temporary_allocator.h"
 
 namespace tear::backend {
 

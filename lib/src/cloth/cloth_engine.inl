@@ -12,14 +12,14 @@
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/scan.h>
 
-#include "backend.h"
-#include "cloth_engine.h"
+#include "backend/backend.h"
+#include "cloth/cloth_engine.h"
 #include "count_new_nodes.h"
 #include "cut_info.h"
-#include "device_topology.h"
+#include "topology/device_topology.h"
 #include "intersect_cuts.h"
 #include "map_nodes.h"
-#include "pd_solver_device.h"
+#include "sim/pd_solver_device.h"
 #include "split_table.h"
 #include "write_new_faces.h"
 #include "write_new_nodes.h"

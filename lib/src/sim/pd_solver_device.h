@@ -5,9 +5,9 @@
 #include <memory>
 #include <vector>
 
-#include "backend.h"
-#include "device_topology.h"
-#include "pd_solver.h"
+#include "backend/backend.h"
+#include "topology/device_topology.h"
+#include "sim/pd_solver.h"
 
 namespace tear::backend {
 

@@ -6,9 +6,9 @@
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/scan.h>
 
-#include "backend.h"
+#include "backend/backend.h"
 #include "build_topology.h"
-#include "device_topology.h"
+#include "topology/device_topology.h"
 
 namespace tear::backend {
 

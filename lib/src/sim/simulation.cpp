@@ -5,10 +5,10 @@
 #include <cmath>
 #include <limits>
 
-#include "cloth_engine.h"
-#include "json_reader.h"
-#include "pd_solver.h"
-#include "systems.h"
+#include "cloth/cloth_engine.h"
+#include "script/json_reader.h"
+#include "sim/pd_solver.h"
+#include "backend/systems.h"
 #include "tear/error.h"
 
 namespace tear {

@@ -11,14 +11,14 @@
 #include <thrust/for_each.h>
 #include <thrust/iterator/counting_iterator.h>
 
-#include "backend.h"
+#include "backend/backend.h"
 #include "build_topology.h"
-#include "device_topology.h"
+#include "topology/device_topology.h"
 #include "pd_model.h"
-#include "pd_solver.h"
-#include "pd_solver_device.h"
+#include "sim/pd_solver.h"
+#include "sim/pd_solver_device.h"
 #include "pd_step.h"
-#include "replay_graph.h"
+#include "backend/replay_graph.h"
 #if TEAR_CUDA_SYSTEM
 #include <cooperative_groups.h>
 #endif
