@@ -23,10 +23,23 @@ struct Mesh {
   std::vector<float> corner_uv;       ///< [face_count * 3 * 2] or empty when the mesh has no UVs
   std::vector<float> corner_normal;   ///< [face_count * 3 * 3] or empty when it has no normals
 
+  // Identity, carried by the cloth through cuts (docs/identity.md). A node's index is its
+  // persistent id: the nodes of the mesh as read keep theirs, a cut appends. Each array is empty
+  // when unknown (a mesh as read from a file without them); writers then write 0 / -1.
+  std::vector<float> node_vel;            ///< [node_count * 3] velocities, m/s
+  std::vector<index_t> node_origin_face;  ///< [node_count] face of the mesh as read the node lies in
+  /// [node_count * 2] (u, v): the node's barycentric weights, in the rest shape, of its origin
+  /// face's 2nd and 3rd corner (the 1st has 1 - u - v).
+  std::vector<float> node_origin_bary;
+  /// [torn_edge_count * 2] node pairs: the boundary edges that lie on a cut or tear of this run.
+  std::vector<index_t> torn_edge_nodes;
+
   index_t node_count() const { return static_cast<index_t>(node_pos.size() / 3); }
   index_t face_count() const { return static_cast<index_t>(face_nodes.size() / 3); }
   bool has_uv() const { return !corner_uv.empty(); }
   bool has_normals() const { return !corner_normal.empty(); }
+  bool has_velocities() const { return !node_vel.empty(); }
+  bool has_origins() const { return !node_origin_face.empty(); }
 };
 
 }  // namespace tear
