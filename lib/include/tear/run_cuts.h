@@ -41,13 +41,10 @@ using FrameCallback = std::function<void(const FrameResult&, const Cloth&)>;
 /// as it is and still call `on_frame`. `frame_count` must be in 1..script.frames (usage `Error`).
 ///
 /// When the script has a `simulation` block (read by `parse_simulation` before the first frame, so
-/// its errors come before any callback), every frame then advances the cloth by one frame (1/fps s)
-/// with a `PdSolver`, rebuilt from the cloth's faces and rest positions on the first frame and
-/// whenever the frame's cuts changed the node or face count. Box pins are resolved again on the new
-/// rest positions; `nodes` pins name nodes of `cloth` as given and are carried through the cuts by
-/// `Cloth::provenance`: a new node whose only source (weight 1) was pinned stays pinned, so both
-/// copies of a pinned node that a cut separates stay pinned, and a node made on a cut edge or inside
-/// a face is free. The state goes to the host and back every frame (`Cloth::set_node_state`).
+/// its errors come before any callback), the cloth simulates it (`Cloth::simulate`: `nodes` pins
+/// name nodes of `cloth` as given and are carried through the cuts) and every frame then advances
+/// the cloth by one frame (1/fps s, `Cloth::step`) on its backend. A state that is no longer finite
+/// stops the run with a runtime `Error` naming the script and the frame, before `on_frame`.
 void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame);
 
 /// Per-corner normals [face_count * 9] of `mesh` at its current positions: at each corner, the
