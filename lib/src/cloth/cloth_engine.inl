@@ -109,7 +109,7 @@ class ClothEngine final : public Cloth::Engine {
     StageClock clock(options.time_stages, stats.stage_ms.data());
     if (remesher_.cut_info_from_paths(cloth_, cuts, options, clock) &&
         remesher_.apply_cut_info(cloth_, options, stats, clock)) {
-      solver_.reset();  // the model is the old mesh's
+      solver_stale_ = true;  // its model is the old mesh's: rebuilt by the next step
       reapply_box_pins();
     }
     Traits<System>::synchronize();
@@ -144,7 +144,11 @@ class ClothEngine final : public Cloth::Engine {
 
   void step() override {
     if (!simulated_) throw Error(ErrorKind::usage, "Cloth::step: no simulation (call Cloth::simulate first)");
-    if (!solver_) solver_ = make_pd_solver<System>(cloth_, options_);
+    if (!solver_ || solver_stale_) {
+      solver_.reset();  // the old model's memory first, so the two never coexist
+      solver_ = make_pd_solver<System>(cloth_, options_);
+      solver_stale_ = false;
+    }
     solver_->step_in_place(raw<float>(cloth_.node_pos), raw<float>(cloth_.node_vel));
   }
 
@@ -215,7 +219,8 @@ class ClothEngine final : public Cloth::Engine {
   bool simulated_ = false;
   SimulationOptions options_;
   vec<double> pin_boxes_;                      // [box * 6] of the simulation's box pins
-  std::unique_ptr<PdSolver::Impl> solver_;     // the model of the current mesh; null after a cut
+  std::unique_ptr<PdSolver::Impl> solver_;     // the model of the mesh it was built for
+  bool solver_stale_ = false;                  // a cut changed the mesh since
 };
 
 template <class System>
