@@ -7,6 +7,7 @@
 #include <string>
 
 #include "commands.h"
+#include "farm.h"
 #include "progress.h"
 #include "tear/demo_scene.h"
 #include "tear/error.h"
@@ -22,6 +23,7 @@ struct DemoCommandOptions {
   std::string device = "auto";
   std::string report_path;
   int frames = demo_frames;
+  FarmOptions farm;
 };
 
 void run_demo(const DemoCommandOptions& options) {
@@ -36,9 +38,10 @@ void run_demo(const DemoCommandOptions& options) {
   run.device = device;
   run.report_path = options.report_path;
   const std::string mesh_name = "(demo sheet, " + std::string(to_string(resolution)) + " resolution)";
-  ProgressBar progress(options.frames);
+  apply_farm_options(options.farm, run);
+  FrameProgress progress(options.farm.progress, options.frames);
   run.on_frame = [&](const FrameResult& frame, const Cloth&) {
-    progress.update(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
+    progress.frame(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
   };
   const RunSummary summary = run_to_files(sheet, mesh_name, script, run);
   progress.finish();
@@ -73,6 +76,7 @@ void add_demo_command(CLI::App& app) {
   // Hidden: runs only the first N frames, for quick checks and tests.
   command->add_option("--frames", options->frames)->check(CLI::Range(1, demo_frames))->group("");
   add_device_option(*command, options->device);
+  add_farm_options(*command, options->farm);
   command->callback([options] { run_demo(*options); });
 }
 

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "commands.h"
+#include "farm.h"
 #include "progress.h"
 #include "tear/cut_script.h"
 #include "tear/error.h"
@@ -26,6 +27,7 @@ struct RunCommandOptions {
   ReadOptions read;
   int frames = 0;
   bool verbose = false;
+  FarmOptions farm;
 };
 
 /// CLI11's PositiveNumber message quotes the largest double; say what is expected instead.
@@ -62,15 +64,19 @@ void run_run(const RunCommandOptions& options) {
   if (frame_count > script.frames)
     throw Error(ErrorKind::usage, options.script_path + ": --frames " + std::to_string(frame_count) +
                                       " is more than the script's " + std::to_string(script.frames) + " frames");
-  ProgressBar progress(frame_count);
+  // What changes results besides the mesh, the script and the device, for the checkpoint's digest.
+  run.result_options = "mesh-name=" + options.read.mesh_name + ";weld-tolerance=" + std::to_string(options.read.weld_tolerance);
+  apply_farm_options(options.farm, run);
+  FrameProgress progress(options.farm.progress, frame_count);
   run.on_frame = [&](const FrameResult& frame, const Cloth&) {
     if (options.verbose) {
       progress.finish();
       print_frame(frame, frame_count);
     }
-    progress.update(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
+    progress.frame(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
   };
   run_to_files(mesh, options.mesh_path, script, run);
+  progress.finish();
 }
 
 }  // namespace
@@ -83,7 +89,7 @@ void add_run_command(CLI::App& app) {
       "out/cloth.0001.obj, ...); {frame} and {frame:04} work too. Without a placeholder the pattern is the file "
       "name of a single-frame run. The extension picks the format: .obj, .ply, .gltf or .glb. Folders are created. "
       "Everything is checked before the first file is written: the mesh must be cuttable (see 'tear info'). "
-      "Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure.");
+      "Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure, 4 stopped by SIGTERM/SIGINT (resumable).");
   command->add_option("MESH", options->mesh_path, "Mesh file: OBJ, glTF, GLB, PLY or any format assimp reads")
       ->required()
       ->type_name("");
@@ -102,6 +108,7 @@ void add_run_command(CLI::App& app) {
       ->type_name("FILE");
   add_device_option(*command, options->device);
   add_read_options(*command, options->read);
+  add_farm_options(*command, options->farm);
   command->callback([options] { run_run(*options); });
 }
 

@@ -5,12 +5,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
+#include <system_error>
 #include <limits>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "tear/checkpoint.h"
 #include "tear/error.h"
 #include "tear/frame_path.h"
 #include "tear/frame_sink.h"
@@ -47,6 +50,23 @@ Vec3 cross(const Vec3& a, const Vec3& b) {
 }
 double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+
+/// What a checkpoint of this run is made from: the mesh as read (its file and the reading options),
+/// the script file (or, for a script made in memory, its name), the device and the options given.
+RunInputs run_inputs(const Mesh& mesh, const CutScript& script, const RunOptions& options) {
+  RunInputs inputs;
+  std::string bytes;
+  for (const auto* floats : {&mesh.node_pos, &mesh.corner_uv, &mesh.corner_normal})
+    bytes.append(reinterpret_cast<const char*>(floats->data()), floats->size() * sizeof(float));
+  bytes.append(reinterpret_cast<const char*>(mesh.face_nodes.data()), mesh.face_nodes.size() * sizeof(index_t));
+  inputs.mesh_digest = digest_bytes(bytes);
+  std::error_code error;
+  inputs.script_digest = std::filesystem::is_regular_file(script.path, error) ? digest_file(script.path)
+                                                                              : digest_bytes(script.path);
+  inputs.options = "tear " TEAR_VERSION ";device=" + std::string(to_string(options.device)) +
+                   (options.result_options.empty() ? "" : ";" + options.result_options);
+  return inputs;
+}
 
 nlohmann::json frame_report(const FrameResult& frame, const Cloth& cloth) {
   return {{"frame", frame.frame},    {"nodes", cloth.node_count()},  {"faces", cloth.face_count()},
@@ -112,11 +132,13 @@ void check_run_inputs(const CutScript& script, const Mesh& mesh, const std::stri
     resolve_pins(parse_simulation(script.simulation, script.path), mesh.node_pos, mesh.node_count());
 }
 
-void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame) {
+void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame,
+              int first_frame) {
   check_frame_count(script, frame_count);
-  if (!script.simulation.is_null()) cloth.simulate(parse_simulation(script.simulation, script.path));
+  if (!script.simulation.is_null() && !cloth.simulated())
+    cloth.simulate(parse_simulation(script.simulation, script.path));
   const CutOptions cut_options{script.snap};
-  for (int frame = 1; frame <= frame_count; ++frame) {
+  for (int frame = first_frame; frame <= frame_count; ++frame) {
     const std::vector<const Cut*> cuts = script.cuts_of_frame(frame);
     FrameResult result;
     result.frame = frame;
@@ -162,6 +184,17 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
   RunSummary summary;
   FrameFiles sink(pattern);
   Cloth cloth(mesh, options.device);
+  const bool checkpoints = !options.checkpoint_path.empty();
+  const RunInputs inputs = checkpoints ? run_inputs(mesh, script, options) : RunInputs{};
+  int first_frame = 1;
+  if (checkpoints && options.resume && std::filesystem::exists(options.checkpoint_path)) {
+    const Checkpoint checkpoint = read_checkpoint(options.checkpoint_path);
+    const std::string why = inputs_mismatch(checkpoint.inputs, inputs);
+    if (!why.empty()) throw input_error(options.checkpoint_path, "cannot resume from this checkpoint: " + why);
+    if (!script.simulation.is_null()) cloth.simulate(parse_simulation(script.simulation, script.path));
+    cloth.load_state(checkpoint.cloth_state, options.checkpoint_path);
+    first_frame = checkpoint.frame + 1;
+  }
   run_cuts(cloth, script, frame_count, [&](const FrameResult& frame, const Cloth& cut_cloth) {
     FrameResult written = frame;
     written.path = sink.path_of(frame.frame);
@@ -181,7 +214,14 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     summary.frames = frame.frame;
     summary.faces = cut_cloth.face_count();
     if (options.on_frame) options.on_frame(written, cut_cloth);
-  });
+    const bool stopping = options.stop && *options.stop;
+    if (checkpoints && (stopping || frame.frame == frame_count || frame.frame % std::max(options.checkpoint_every, 1) == 0))
+      write_checkpoint(options.checkpoint_path, Checkpoint{frame.frame, inputs, cut_cloth.save_state()});
+    if (stopping)
+      throw Error(ErrorKind::interrupted,
+                  "stopped after frame " + std::to_string(frame.frame) + " of " + std::to_string(frame_count) +
+                      (checkpoints ? "; '--resume' goes on from " + options.checkpoint_path : std::string()));
+  }, first_frame);
   sink.finish();
   summary.wall_ms = ms_since(start);
 
