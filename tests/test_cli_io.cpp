@@ -23,8 +23,8 @@ using tear::test::TempDir;
 /// file that makes the reader allocate or loop without bound fails the test instead of the machine.
 Run bounded_tear(const TempDir& dir, const std::string& args) {
   const auto out = dir / "stdout.txt", err = dir / "stderr.txt";
-  const std::string command = "ulimit -d 2097152; timeout 120 " + quoted(TEAR_BINARY) + " " + args + " >" +
-                              quoted(out) + " 2>" + quoted(err);
+  const std::string command =
+      "ulimit -d 2097152; timeout 120 " + quoted(TEAR_BINARY) + " " + args + " >" + quoted(out) + " 2>" + quoted(err);
   INFO(command);
   const int status = std::system(command.c_str());
   REQUIRE(status != -1);
@@ -46,7 +46,8 @@ std::string triangle_gltf(const std::vector<std::uint16_t>& indices) {
     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36},
                     {"buffer": 0, "byteOffset": 36, "byteLength": )" +
          std::to_string(2 * indices.size()) + R"(}],
-    "buffers": [{"byteLength": )" + std::to_string(buffer.size()) + R"(, "uri": ")" + uri + R"("}]})";
+    "buffers": [{"byteLength": )" +
+         std::to_string(buffer.size()) + R"(, "uri": ")" + uri + R"("}]})";
 }
 
 std::string ply_header(const std::string& vertex_count) {
@@ -110,7 +111,8 @@ TEST_CASE("cli: --no-weld keeps a torn OBJ torn; tear's PLY and GLB stay torn wi
     const auto path = dir / (std::string("pieces.") + format);
     tear::write_mesh(mesh, path.string());
     for (bool weld : {true, false}) {
-      const Run run = bounded_tear(dir, "info --json --device cpu " + std::string(weld ? "" : "--no-weld ") + quoted(path));
+      const Run run =
+          bounded_tear(dir, "info --json --device cpu " + std::string(weld ? "" : "--no-weld ") + quoted(path));
       INFO("stderr: " << run.err);
       REQUIRE(run.exit_code == 0);
       const nlohmann::json info = nlohmann::json::parse(run.out);
@@ -144,7 +146,8 @@ TEST_CASE("cli: a torn frame tear run wrote reads back with the nodes it was wri
     const nlohmann::json report = nlohmann::json::parse(tear::test::read_bytes(dir / "report.json"));
     const int written = report["frames"][0]["nodes"];
     const bool has_ids = std::string(format) != "obj";
-    const Run info = bounded_tear(dir, "info --json --device cpu " + std::string(has_ids ? "" : "--no-weld ") + quoted(frame));
+    const Run info =
+        bounded_tear(dir, "info --json --device cpu " + std::string(has_ids ? "" : "--no-weld ") + quoted(frame));
     REQUIRE(info.exit_code == 0);
     CHECK(nlohmann::json::parse(info.out)["nodes"] == written);
     // The slit is a tear: more boundary than the uncut sheet's 40 edges.
@@ -162,7 +165,8 @@ TEST_CASE("cli: deep glTF node chains and deeply nested JSON are refused without
   std::string nodes;
   for (int i = 0; i < 100000; ++i) nodes += (i ? ",{\"children\":[" : "{\"children\":[") + std::to_string(i + 1) + "]}";
   nodes += ",{}";
-  const auto chain = dir.file("chain.gltf", R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"nodes":[)" + nodes + "]}");
+  const auto chain =
+      dir.file("chain.gltf", R"({"asset":{"version":"2.0"},"scenes":[{"nodes":[0]}],"nodes":[)" + nodes + "]}");
   const auto nested = dir.file("nested.gltf", R"({"asset":{"version":"2.0"},"extras":)" + std::string(100000, '[') +
                                                   std::string(100000, ']') + "}");
   for (const auto& path : {chain, nested}) {

@@ -68,12 +68,11 @@ TEST_CASE("read_mesh: a glTF with _ID welds by id, one without by position", "[i
   std::string ids;
   for (int v = 5; v >= 0; --v) ids += tear::test::le_bytes(static_cast<float>(v));
   const int count = reversed["buffers"].size();
-  reversed["buffers"].push_back({{"byteLength", ids.size()}, {"uri", "data:application/octet-stream;base64," + tear::test::base64(ids)}});
+  reversed["buffers"].push_back(
+      {{"byteLength", ids.size()}, {"uri", "data:application/octet-stream;base64," + tear::test::base64(ids)}});
   reversed["bufferViews"].push_back({{"buffer", count}, {"byteLength", ids.size()}});
-  reversed["accessors"].push_back({{"bufferView", reversed["bufferViews"].size() - 1},
-                                    {"componentType", 5126},
-                                    {"count", 6},
-                                    {"type", "SCALAR"}});
+  reversed["accessors"].push_back(
+      {{"bufferView", reversed["bufferViews"].size() - 1}, {"componentType", 5126}, {"count", 6}, {"type", "SCALAR"}});
   reversed["meshes"][0]["primitives"][0]["attributes"]["_ID"] = reversed["accessors"].size() - 1;
   const tear::Mesh back = tear::read_mesh(dir.file("reversed.gltf", reversed.dump()));
   CHECK(back.face_nodes == std::vector<tear::index_t>{5, 4, 3, 2, 0, 1});

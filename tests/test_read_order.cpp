@@ -44,7 +44,8 @@ TEST_CASE("read_mesh: glTF nodes weld at split seams in the order of first appea
   const float uv[8][2] = {{0.6f, 1}, {1, 0}, {0.6f, 0}, {0, 0}, {0.5f, 0}, {0.5f, 1}, {0, 1}, {1, 1}};
   const std::uint16_t indices[12] = {3, 4, 5, 3, 5, 6, 2, 1, 7, 2, 7, 0};
   std::string buffer;
-  for (const auto& p : xy) buffer += tear::test::le_bytes(p[0]) + tear::test::le_bytes(p[1]) + tear::test::le_bytes(0.0f);
+  for (const auto& p : xy)
+    buffer += tear::test::le_bytes(p[0]) + tear::test::le_bytes(p[1]) + tear::test::le_bytes(0.0f);
   for (const auto& t : uv) buffer += tear::test::le_bytes(t[0]) + tear::test::le_bytes(1.0f - t[1]);
   for (std::uint16_t i : indices) buffer += tear::test::le_bytes(i);
   const std::string uri = "data:application/octet-stream;base64," + tear::test::base64(buffer);
@@ -57,7 +58,8 @@ TEST_CASE("read_mesh: glTF nodes weld at split seams in the order of first appea
     "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 96},
                     {"buffer": 0, "byteOffset": 96, "byteLength": 64},
                     {"buffer": 0, "byteOffset": 160, "byteLength": 24}],
-    "buffers": [{"byteLength": 184, "uri": ")" + uri + R"("}]})";
+    "buffers": [{"byteLength": 184, "uri": ")" +
+                           uri + R"("}]})";
   REQUIRE(buffer.size() == 184);
   const std::string path = dir.file("seam.gltf", gltf);
 
@@ -124,10 +126,10 @@ TEST_CASE("read_mesh: OBJ groups select meshes, and OBJ errors name the file", "
   CHECK(body.node_pos == std::vector<float>{1, 0, 0, 0, 1, 0, 1, 1, 0});
 
   const std::vector<std::string> bad = {
-      "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n",         // index 0
-      "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n",        // relative index before the first v
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 0\n",                // index 0
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 -4\n",               // relative index before the first v
       "v 0 0 0\nv 1 0 0\nv 0 1 0\nvt 0 0\nf 1/1 2/2 3/1\n",  // vt out of range
-      "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\n",        // vn out of range
+      "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1//1 2//1 3//1\n",       // vn out of range
   };
   for (std::size_t i = 0; i < bad.size(); ++i) {
     const std::string file = dir.file("bad" + std::to_string(i) + ".obj", bad[i]);

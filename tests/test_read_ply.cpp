@@ -101,7 +101,7 @@ TEST_CASE("read_mesh: binary PLY in either byte order, any list and index types,
     }
     bytes += std::string("\x03") + "abc";
     bytes += std::string(1, '\0') + u16(5) + i32(0) + i32(1) + i32(2) + i32(3) + i32(4);  // concave at vertex 3
-    bytes += std::string(1, '\0') + u16(2) + i32(0) + i32(1);  // two corners: no face
+    bytes += std::string(1, '\0') + u16(2) + i32(0) + i32(1);                             // two corners: no face
     const std::string path = dir.file(big ? "big.ply" : "little.ply", bytes);
     const tear::Mesh mesh = tear::read_mesh(path);
     CHECK(mesh.node_count() == 5);
@@ -130,9 +130,10 @@ TEST_CASE("read_mesh: a face texcoord list gives corner UVs", "[io][ply]") {
 
 TEST_CASE("read_mesh: malformed PLY files are one-line input errors, found before allocating", "[io][ply]") {
   IoDir dir;
-  const std::string header = "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
-                             "property float x\nproperty float y\nproperty float z\n"
-                             "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
+  const std::string header =
+      "ply\nformat binary_little_endian 1.0\nelement vertex 3\n"
+      "property float x\nproperty float y\nproperty float z\n"
+      "element face 1\nproperty list uchar int vertex_indices\nend_header\n";
   std::string body;
   for (float v : {0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f}) body += le_bytes(v);
   const std::string face = std::string("\x03") + le_bytes(0) + le_bytes(1) + le_bytes(2);
@@ -161,12 +162,14 @@ TEST_CASE("read_mesh: malformed PLY files are one-line input errors, found befor
   std::string nan_body = body;
   nan_body.replace(4, 4, le_bytes(std::numeric_limits<float>::quiet_NaN()));
   CHECK(input_error_of(dir.file("nan.ply", header + nan_body + face)).find("non-finite") != std::string::npos);
-  input_error_of(dir.file("inf.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                                     "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-                                     "end_header\n0 0 0 1 0 inf 0 1 0 3 0 1 2\n"));
-  input_error_of(dir.file("word.ply", "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
-                                      "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
-                                      "end_header\n0 0 0 1 0 zero 0 1 0 3 0 1 2\n"));
+  input_error_of(dir.file("inf.ply",
+                          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                          "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                          "end_header\n0 0 0 1 0 inf 0 1 0 3 0 1 2\n"));
+  input_error_of(dir.file("word.ply",
+                          "ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\n"
+                          "property float z\nelement face 1\nproperty list uchar int vertex_indices\n"
+                          "end_header\n0 0 0 1 0 zero 0 1 0 3 0 1 2\n"));
   input_error_of(dir.file("type.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty quad x\nend_header\n1\n"));
   input_error_of(dir.file("format.ply", "ply\nformat binary_middle_endian 1.0\nend_header\n"));
   input_error_of(dir.file("no_xyz.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float w\nend_header\n1\n"));

@@ -50,8 +50,7 @@ TEST_CASE("triangulate_polygon: a triangle stays, a convex polygon becomes a fan
     const float a = static_cast<float>(k) * 3.14159265f / 3.0f;
     hexagon.insert(hexagon.end(), {std::cos(a), std::sin(a) * 0.8f, std::sin(a) * 0.6f});
   }
-  CHECK(tear::triangulate_polygon(hexagon.data(), 6) ==
-        std::vector<tear::index_t>{0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5});
+  CHECK(tear::triangulate_polygon(hexagon.data(), 6) == std::vector<tear::index_t>{0, 1, 2, 0, 2, 3, 0, 3, 4, 0, 4, 5});
   CHECK(tear::triangulate_polygon(quad.data(), 2).empty());
 }
 
@@ -84,7 +83,8 @@ TEST_CASE("triangulate_polygon: concave polygons of either orientation and plane
     for (int k = n - 1; k >= 0; --k) reversed.insert(reversed.end(), pos.begin() + 3 * k, pos.begin() + 3 * k + 3);
     const std::vector<tear::index_t> back = tear::triangulate_polygon(reversed.data(), n);
     REQUIRE(back.size() == 3 * static_cast<std::size_t>(n - 2));
-    for (std::size_t t = 0; t < back.size(); t += 3) CHECK(signed_area(reversed, {back[t], back[t + 1], back[t + 2]}) < 0.0);
+    for (std::size_t t = 0; t < back.size(); t += 3)
+      CHECK(signed_area(reversed, {back[t], back[t + 1], back[t + 2]}) < 0.0);
 
     // In the yz plane: the projection follows the normal.
     std::vector<float> turned;

@@ -53,7 +53,6 @@ TEST_CASE("write_mesh: signed zeros split no node, and PLY and glTF keep node i 
   }
 }
 
-
 TEST_CASE("write_mesh: a UV seam splits vertices after the nodes, in corner order", "[io]") {
   IoDir dir;
   // Two triangles sharing the edge 1-2 with different UVs on each side, and a node no face uses.
@@ -77,7 +76,6 @@ TEST_CASE("write_mesh: a UV seam splits vertices after the nodes, in corner orde
   CHECK(split.node_count() == 5);  // the seam's extra vertex is a node of its own, after the others
   CHECK(split.face_nodes == std::vector<tear::index_t>{0, 1, 2, 4, 3, 2});
 }
-
 
 TEST_CASE("write_mesh: PLY round trip keeps ids, velocities, origins and torn edges", "[io][ply]") {
   IoDir dir;
@@ -109,4 +107,3 @@ TEST_CASE("write_mesh: PLY round trip keeps ids, velocities, origins and torn ed
   CHECK_FALSE(plain_back.has_origins());
   CHECK(plain_back.torn_edge_nodes.empty());
 }
-

@@ -12,8 +12,8 @@ namespace tear {
 Error no_mesh_named(const std::string& path, const std::string& mesh_name, const std::vector<std::string>& names) {
   std::string listed;
   for (const std::string& name : names) listed += (listed.empty() ? "'" : ", '") + name + "'";
-  return input_error(path, "no mesh named '" + mesh_name + "'; meshes in the file: " +
-                               (listed.empty() ? std::string("none with a name") : listed));
+  return input_error(path, "no mesh named '" + mesh_name +
+                               "'; meshes in the file: " + (listed.empty() ? std::string("none with a name") : listed));
 }
 
 void append_name(std::vector<std::string>& names, const std::string& name) {
@@ -44,8 +44,8 @@ double Transform::linear_determinant() const {
          m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
 }
 
-void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normals, bool with_velocities,
-                   bool with_ids, FileMesh& out) {
+void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normals, bool with_velocities, bool with_ids,
+                   FileMesh& out) {
   const Transform& t = placed.transform;
   const bool identity = t.is_identity();
   const double det = t.linear_determinant();
@@ -110,7 +110,8 @@ void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normal
         continue;
       }
       double m[3];
-      for (int r = 0; r < 3; ++r) m[r] = normal_matrix[r][0] * n[0] + normal_matrix[r][1] * n[1] + normal_matrix[r][2] * n[2];
+      for (int r = 0; r < 3; ++r)
+        m[r] = normal_matrix[r][0] * n[0] + normal_matrix[r][1] * n[1] + normal_matrix[r][2] * n[2];
       const double length = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
       const double scale = length > 0.0 ? 1.0 / length : 0.0;
       for (int r = 0; r < 3; ++r) mesh.corner_normal.push_back(static_cast<float>(m[r] * scale));

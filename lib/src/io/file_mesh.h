@@ -48,11 +48,11 @@ struct Transform {
 /// null) and its triangles as vertex numbers.
 struct PlacedTriangles {
   index_t vertex_count = 0;
-  const float* vertex_pos = nullptr;     ///< [vertex_count * 3]
-  const float* vertex_normal = nullptr;  ///< [vertex_count * 3] or null
-  const float* vertex_uv = nullptr;      ///< [vertex_count * 2] or null, tear's convention (v up)
-  const float* vertex_vel = nullptr;     ///< [vertex_count * 3] or null, m/s
-  const index_t* vertex_id = nullptr;    ///< [vertex_count] or null
+  const float* vertex_pos = nullptr;                ///< [vertex_count * 3]
+  const float* vertex_normal = nullptr;             ///< [vertex_count * 3] or null
+  const float* vertex_uv = nullptr;                 ///< [vertex_count * 2] or null, tear's convention (v up)
+  const float* vertex_vel = nullptr;                ///< [vertex_count * 3] or null, m/s
+  const index_t* vertex_id = nullptr;               ///< [vertex_count] or null
   const std::vector<index_t>* triangles = nullptr;  ///< [triangle_count * 3] vertex numbers, in range
   Transform transform;
 };
@@ -62,8 +62,8 @@ struct PlacedTriangles {
 /// linear part; a mirroring transform swaps two corners of each face. `with_uv`, `with_normals`,
 /// `with_velocities`, `with_ids` say whether `out` has those arrays at all (a primitive without
 /// them gets zeros, and id -1).
-void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normals, bool with_velocities,
-                   bool with_ids, FileMesh& out);
+void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normals, bool with_velocities, bool with_ids,
+                   FileMesh& out);
 
 /// Largest count of nodes or corners a mesh can hold (`index_t` indices).
 inline constexpr std::uint64_t max_index_count = 0x7FFFFFFF;

@@ -59,7 +59,8 @@ std::string describe_assimp_error(std::string text) {
                             "No meshes remaining", "has no faces", "is empty", "too small"}) {
     if (text.find(empty) != std::string::npos) return "holds no triangles";
   }
-  if (text.find("No suitable reader found") != std::string::npos || text.find("Unable to open file") != std::string::npos) {
+  if (text.find("No suitable reader found") != std::string::npos ||
+      text.find("Unable to open file") != std::string::npos) {
     return "not a mesh file tear can read (its format is unknown or it is not a mesh)";
   }
   if (text.find("out of range") != std::string::npos || text.find("Invalid") != std::string::npos ||

@@ -65,8 +65,10 @@ std::size_t json_depth(const char* text, std::size_t size) {
   for (std::size_t i = 0; i < size; ++i) {
     const char c = text[i];
     if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        in_string = false;
     } else if (c == '"') {
       in_string = true;
     } else if (c == '[' || c == '{') {
@@ -109,7 +111,8 @@ class AccessorReader {
     const std::string name = what + " (accessor " + std::to_string(index) + ")";
     const int type_components = tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(accessor.type));
     if (type_components != components) {
-      throw fail(name + " has " + std::to_string(type_components) + " components, expected " + std::to_string(components));
+      throw fail(name + " has " + std::to_string(type_components) + " components, expected " +
+                 std::to_string(components));
     }
     const int component_size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(accessor.componentType));
     if (component_size <= 0 || accessor.componentType == TINYGLTF_COMPONENT_TYPE_INT ||
@@ -128,7 +131,8 @@ class AccessorReader {
       values.assign(count * components, 0.0);
     } else {
       std::uint64_t stride = 0;
-      const unsigned char* data = view_data(accessor.bufferView, accessor.byteOffset, count, element_size, &stride, name);
+      const unsigned char* data =
+          view_data(accessor.bufferView, accessor.byteOffset, count, element_size, &stride, name);
       values.resize(count * components);
       for (std::uint64_t i = 0; i < count; ++i) {
         for (int k = 0; k < components; ++k) {
@@ -140,31 +144,41 @@ class AccessorReader {
     if (accessor.sparse.isSparse) {
       const auto& sparse = accessor.sparse;
       if (sparse.count < 0 || static_cast<std::uint64_t>(sparse.count) > count) {
-        throw fail(name + " has " + std::to_string(sparse.count) + " sparse values for " + std::to_string(count) + " elements");
+        throw fail(name + " has " + std::to_string(sparse.count) + " sparse values for " + std::to_string(count) +
+                   " elements");
       }
       const std::uint64_t sparse_count = static_cast<std::uint64_t>(sparse.count);
-      const int index_size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(sparse.indices.componentType));
+      const int index_size =
+          tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(sparse.indices.componentType));
       if (sparse.indices.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
           sparse.indices.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
           sparse.indices.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {
         throw fail(name + " has sparse indices of component type " + std::to_string(sparse.indices.componentType));
       }
-      if (sparse.indices.byteOffset < 0 || sparse.values.byteOffset < 0) throw fail(name + " has a negative sparse offset");
+      if (sparse.indices.byteOffset < 0 || sparse.values.byteOffset < 0)
+        throw fail(name + " has a negative sparse offset");
       std::uint64_t index_stride = 0, value_stride = 0;
-      const unsigned char* indices = view_data(sparse.indices.bufferView, static_cast<std::size_t>(sparse.indices.byteOffset),
-                                               sparse_count, index_size, &index_stride, name + " sparse indices");
-      const unsigned char* data = view_data(sparse.values.bufferView, static_cast<std::size_t>(sparse.values.byteOffset),
-                                            sparse_count, element_size, &value_stride, name + " sparse values");
+      const unsigned char* indices =
+          view_data(sparse.indices.bufferView, static_cast<std::size_t>(sparse.indices.byteOffset), sparse_count,
+                    index_size, &index_stride, name + " sparse indices");
+      const unsigned char* data =
+          view_data(sparse.values.bufferView, static_cast<std::size_t>(sparse.values.byteOffset), sparse_count,
+                    element_size, &value_stride, name + " sparse values");
       // Sparse data is tightly packed whatever the views' strides say.
       index_stride = index_size;
       value_stride = element_size;
       for (std::uint64_t s = 0; s < sparse_count; ++s) {
         std::uint32_t target = 0;
         if (index_size == 1) target = indices[s];
-        if (index_size == 2) { std::uint16_t v; std::memcpy(&v, indices + 2 * s, 2); target = v; }
+        if (index_size == 2) {
+          std::uint16_t v;
+          std::memcpy(&v, indices + 2 * s, 2);
+          target = v;
+        }
         if (index_size == 4) std::memcpy(&target, indices + 4 * s, 4);
         if (target >= count) {
-          throw fail(name + " has the sparse index " + std::to_string(target) + " of " + std::to_string(count) + " elements");
+          throw fail(name + " has the sparse index " + std::to_string(target) + " of " + std::to_string(count) +
+                     " elements");
         }
         for (int k = 0; k < components; ++k) {
           values[static_cast<std::size_t>(target) * components + k] =
@@ -317,7 +331,8 @@ void collect_placements(const std::string& path, const tinygltf::Model& model, i
       }
       placements.push_back({node.mesh, node_index, transform});
     }
-    for (auto child = node.children.rbegin(); child != node.children.rend(); ++child) stack.emplace_back(*child, transform);
+    for (auto child = node.children.rbegin(); child != node.children.rend(); ++child)
+      stack.emplace_back(*child, transform);
   }
 }
 
@@ -341,12 +356,14 @@ std::vector<float> to_floats(const std::vector<double>& values) {
 
 }  // namespace
 
-std::optional<FileMesh> read_gltf_file(const std::string& path, const std::string& bytes, const std::string& mesh_name) {
+std::optional<FileMesh> read_gltf_file(const std::string& path, const std::string& bytes,
+                                       const std::string& mesh_name) {
   const bool binary = bytes.compare(0, 4, "glTF") == 0;
   // glTF 1.0 (another schema, which tinygltf does not read) is left to assimp.
   if (binary && bytes.size() >= 8 && read_u32(bytes, 4) == 1) return std::nullopt;
   if (binary) check_glb(path, bytes);
-  if (bytes.size() > std::numeric_limits<unsigned int>::max()) throw input_error(path, "too large for glTF (4 GiB or more)");
+  if (bytes.size() > std::numeric_limits<unsigned int>::max())
+    throw input_error(path, "too large for glTF (4 GiB or more)");
 
   const std::size_t json_begin = binary ? 20 : 0;
   const std::size_t json_size = binary ? read_u32(bytes, 12) : bytes.size();
@@ -445,8 +462,8 @@ std::optional<FileMesh> read_gltf_file(const std::string& path, const std::strin
       }
       auto per_vertex = [&](std::vector<double> values, const char* semantic, std::size_t width) {
         if (!values.empty() && values.size() != width * vertex_count) {
-          throw input_error(path, name + " has " + std::to_string(values.size() / width) + " " + semantic + " values for " +
-                                      std::to_string(vertex_count) + " vertices");
+          throw input_error(path, name + " has " + std::to_string(values.size() / width) + " " + semantic +
+                                      " values for " + std::to_string(vertex_count) + " vertices");
         }
         return values;
       };
@@ -468,7 +485,8 @@ std::optional<FileMesh> read_gltf_file(const std::string& path, const std::strin
       std::vector<std::uint64_t> indices;
       if (primitive.indices >= 0) {
         if (primitive.indices >= static_cast<int>(model.accessors.size())) {
-          throw input_error(path, name + " uses accessor " + std::to_string(primitive.indices) + ", which does not exist");
+          throw input_error(path,
+                            name + " uses accessor " + std::to_string(primitive.indices) + ", which does not exist");
         }
         if (model.accessors[primitive.indices].normalized) throw input_error(path, name + " has normalized indices");
         const int type = model.accessors[primitive.indices].componentType;

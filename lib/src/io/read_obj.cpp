@@ -32,10 +32,10 @@ struct ObjData {
   std::vector<std::uint8_t> face_selected;     ///< [face_count] named by --mesh-name (or all)
 
   std::string mesh_name;
-  std::string object, group;          ///< the current `o` name and `g` names joined by spaces
+  std::string object, group;  ///< the current `o` name and `g` names joined by spaces
   std::vector<std::string> group_names;
   bool selected = true;
-  std::vector<std::string> names;     ///< names of objects and groups that have faces
+  std::vector<std::string> names;  ///< names of objects and groups that have faces
 
   void name_changed() {
     if (mesh_name.empty()) return;
@@ -68,8 +68,10 @@ void on_face(void* user, tinyobj::index_t* indices, int count) {
   for (int k = 0; k < count; ++k) {
     data.corner_v.push_back(resolve(indices[k].vertex_index, vertex_count));
     // The callback passes 0 for a missing vt or vn.
-    data.corner_vt.push_back(indices[k].texcoord_index == 0 ? ObjData::absent : resolve(indices[k].texcoord_index, data.uv.size() / 2));
-    data.corner_vn.push_back(indices[k].normal_index == 0 ? ObjData::absent : resolve(indices[k].normal_index, data.normal.size() / 3));
+    data.corner_vt.push_back(indices[k].texcoord_index == 0 ? ObjData::absent
+                                                            : resolve(indices[k].texcoord_index, data.uv.size() / 2));
+    data.corner_vn.push_back(indices[k].normal_index == 0 ? ObjData::absent
+                                                          : resolve(indices[k].normal_index, data.normal.size() / 3));
   }
   data.face_offset.push_back(data.corner_v.size());
   data.face_selected.push_back(data.selected);
@@ -94,7 +96,9 @@ void on_group(void* user, const char** names, int count) {
 void on_object(void* user, const char* name) {
   ObjData& data = *static_cast<ObjData*>(user);
   data.object = name ? name : "";
-  while (!data.object.empty() && (data.object.back() == ' ' || data.object.back() == '\t')) data.object.pop_back();
+  const std::size_t first = data.object.find_first_not_of(" \t");
+  const std::size_t last = data.object.find_last_not_of(" \t");
+  data.object = first == std::string::npos ? std::string() : data.object.substr(first, last + 1 - first);
   data.group.clear();
   data.group_names.clear();
   data.name_changed();
@@ -188,7 +192,8 @@ FileMesh read_obj_file(const std::string& path, std::string text, const std::str
     }
     if (static_cast<std::size_t>(index) >= count) {
       throw input_error(path, "face " + std::to_string(face + 1) + " uses " + what + " " + std::to_string(index + 1) +
-                                  ", out of range (the file has " + std::to_string(count) + " '" + keyword + "' lines)");
+                                  ", out of range (the file has " + std::to_string(count) + " '" + keyword +
+                                  "' lines)");
     }
   };
   bool any_selected = false, with_uv = false, with_normals = false;

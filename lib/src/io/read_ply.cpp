@@ -23,11 +23,11 @@ bool type_from_name(const std::string& name, PlyType& type) {
   static const struct {
     const char* name;
     PlyType type;
-  } names[] = {{"char", PlyType::int8},     {"int8", PlyType::int8},      {"uchar", PlyType::uint8},
-               {"uint8", PlyType::uint8},   {"short", PlyType::int16},    {"int16", PlyType::int16},
-               {"ushort", PlyType::uint16}, {"uint16", PlyType::uint16},  {"int", PlyType::int32},
-               {"int32", PlyType::int32},   {"uint", PlyType::uint32},    {"uint32", PlyType::uint32},
-               {"float", PlyType::float32}, {"float32", PlyType::float32}, {"double", PlyType::float64},
+  } names[] = {{"char", PlyType::int8},      {"int8", PlyType::int8},       {"uchar", PlyType::uint8},
+               {"uint8", PlyType::uint8},    {"short", PlyType::int16},     {"int16", PlyType::int16},
+               {"ushort", PlyType::uint16},  {"uint16", PlyType::uint16},   {"int", PlyType::int32},
+               {"int32", PlyType::int32},    {"uint", PlyType::uint32},     {"uint32", PlyType::uint32},
+               {"float", PlyType::float32},  {"float32", PlyType::float32}, {"double", PlyType::float64},
                {"float64", PlyType::float64}};
   for (const auto& entry : names) {
     if (name == entry.name) {
@@ -122,7 +122,8 @@ PlyHeader parse_header(const std::string& path, const std::string& bytes) {
     if (!line.empty() && line.back() == '\r') line.pop_back();
     const std::vector<std::string> words = split_words(line);
     if (line_number == 1) {
-      if (words.size() != 1 || words[0] != "ply") throw input_error(path, "not a PLY file (the first line is not 'ply')");
+      if (words.size() != 1 || words[0] != "ply")
+        throw input_error(path, "not a PLY file (the first line is not 'ply')");
       continue;
     }
     if (words.empty()) continue;
@@ -149,7 +150,8 @@ PlyHeader parse_header(const std::string& path, const std::string& bytes) {
       const char* last = first + words[2].size();
       const auto parsed = std::from_chars(first, last, element.count);
       if (parsed.ec != std::errc() || parsed.ptr != last) {
-        throw fail(line_number, "element '" + printable(words[1]) + "' has no count (got '" + printable(words[2]) + "')");
+        throw fail(line_number,
+                   "element '" + printable(words[1]) + "' has no count (got '" + printable(words[2]) + "')");
       }
       header.elements.push_back(element);
     } else if (keyword == "property") {
@@ -160,10 +162,12 @@ PlyHeader parse_header(const std::string& path, const std::string& bytes) {
         if (!type_from_name(words[2], property.count_type) || !is_integer(property.count_type)) {
           throw fail(line_number, "a list count must be of an integer type, got '" + printable(words[2]) + "'");
         }
-        if (!type_from_name(words[3], property.type)) throw fail(line_number, "unknown type '" + printable(words[3]) + "'");
+        if (!type_from_name(words[3], property.type))
+          throw fail(line_number, "unknown type '" + printable(words[3]) + "'");
         property.name = words[4];
       } else if (words.size() == 3) {
-        if (!type_from_name(words[1], property.type)) throw fail(line_number, "unknown type '" + printable(words[1]) + "'");
+        if (!type_from_name(words[1], property.type))
+          throw fail(line_number, "unknown type '" + printable(words[1]) + "'");
         property.name = words[2];
       } else {
         throw fail(line_number, "expected 'property <type> <name>' or 'property list <type> <type> <name>'");
@@ -205,8 +209,9 @@ class PlyReader {
     const std::uint64_t items = static_cast<std::uint64_t>(count);
     // Each item needs its bytes, or in ASCII at least one character and a separator.
     const std::uint64_t least = ascii() ? 1 : size_of(property.type);
-    if (items > bytes_left() / least + 1) throw fail("'" + property.name + "' has " + std::to_string(items) +
-                                                     " items, more than the rest of the file holds");
+    if (items > bytes_left() / least + 1)
+      throw fail("'" + property.name + "' has " + std::to_string(items) +
+                 " items, more than the rest of the file holds");
     return items;
   }
 
@@ -223,14 +228,40 @@ class PlyReader {
     p_ += size;
     if (format_ == PlyFormat::binary_big_endian) std::reverse(raw, raw + size);
     switch (type) {
-      case PlyType::int8: return static_cast<std::int8_t>(raw[0]);
-      case PlyType::uint8: return raw[0];
-      case PlyType::int16: { std::int16_t v; std::memcpy(&v, raw, 2); return v; }
-      case PlyType::uint16: { std::uint16_t v; std::memcpy(&v, raw, 2); return v; }
-      case PlyType::int32: { std::int32_t v; std::memcpy(&v, raw, 4); return v; }
-      case PlyType::uint32: { std::uint32_t v; std::memcpy(&v, raw, 4); return v; }
-      case PlyType::float32: { float v; std::memcpy(&v, raw, 4); return v; }
-      case PlyType::float64: { double v; std::memcpy(&v, raw, 8); return v; }
+      case PlyType::int8:
+        return static_cast<std::int8_t>(raw[0]);
+      case PlyType::uint8:
+        return raw[0];
+      case PlyType::int16: {
+        std::int16_t v;
+        std::memcpy(&v, raw, 2);
+        return v;
+      }
+      case PlyType::uint16: {
+        std::uint16_t v;
+        std::memcpy(&v, raw, 2);
+        return v;
+      }
+      case PlyType::int32: {
+        std::int32_t v;
+        std::memcpy(&v, raw, 4);
+        return v;
+      }
+      case PlyType::uint32: {
+        std::uint32_t v;
+        std::memcpy(&v, raw, 4);
+        return v;
+      }
+      case PlyType::float32: {
+        float v;
+        std::memcpy(&v, raw, 4);
+        return v;
+      }
+      case PlyType::float64: {
+        double v;
+        std::memcpy(&v, raw, 8);
+        return v;
+      }
     }
     return 0.0;
   }
@@ -241,7 +272,8 @@ class PlyReader {
     const char* first = p_;
     while (p_ < end_ && !space(*p_)) ++p_;
     if (first == p_) throw fail("the file ends before '" + property + "' (truncated)");
-    const std::string token(first, p_);
+    const char* const token = first;
+    if (*first == '+') ++first;  // from_chars takes no plus sign
     if (is_integer(type)) {
       std::int64_t value = 0;
       const auto parsed = std::from_chars(first, p_, value);
@@ -252,7 +284,7 @@ class PlyReader {
       double wide = 0.0;
       const auto wide_parsed = std::from_chars(first, p_, wide);
       if (wide_parsed.ec != std::errc() || wide_parsed.ptr != p_ || wide != std::floor(wide)) {
-        throw fail("'" + property + "' is not an integer: '" + printable(token) + "'");
+        throw fail("'" + property + "' is not an integer: '" + printable(std::string(token, p_)) + "'");
       }
       check_range(type, wide, property);
       return wide;
@@ -267,19 +299,35 @@ class PlyReader {
       const auto parsed = std::from_chars(first, p_, value);
       if (parsed.ec == std::errc() && parsed.ptr == p_) return value;
     }
-    throw fail("'" + property + "' is not a number: '" + printable(token) + "'");
+    throw fail("'" + property + "' is not a number: '" + printable(std::string(token, p_)) + "'");
   }
 
   void check_range(PlyType type, double value, const std::string& property) const {
     double low = 0, high = 0;
     switch (type) {
-      case PlyType::int8: low = -128; high = 127; break;
-      case PlyType::uint8: high = 255; break;
-      case PlyType::int16: low = -32768; high = 32767; break;
-      case PlyType::uint16: high = 65535; break;
-      case PlyType::int32: low = -2147483648.0; high = 2147483647.0; break;
-      case PlyType::uint32: high = 4294967295.0; break;
-      default: return;
+      case PlyType::int8:
+        low = -128;
+        high = 127;
+        break;
+      case PlyType::uint8:
+        high = 255;
+        break;
+      case PlyType::int16:
+        low = -32768;
+        high = 32767;
+        break;
+      case PlyType::uint16:
+        high = 65535;
+        break;
+      case PlyType::int32:
+        low = -2147483648.0;
+        high = 2147483647.0;
+        break;
+      case PlyType::uint32:
+        high = 4294967295.0;
+        break;
+      default:
+        return;
     }
     if (value < low || value > high) throw fail("'" + property + "' is out of the range of its type");
   }
@@ -324,7 +372,8 @@ Properties vertex_properties(const PlyElement& vertex) {
   p.x = vertex.find("x"), p.y = vertex.find("y"), p.z = vertex.find("z");
   p.nx = vertex.find("nx"), p.ny = vertex.find("ny"), p.nz = vertex.find("nz");
   if (p.nx < 0 || p.ny < 0 || p.nz < 0) p.nx = p.ny = p.nz = -1;
-  static const char* const uv_names[][2] = {{"s", "t"}, {"u", "v"}, {"texture_u", "texture_v"}, {"texture_s", "texture_t"}};
+  static const char* const uv_names[][2] = {
+      {"s", "t"}, {"u", "v"}, {"texture_u", "texture_v"}, {"texture_s", "texture_t"}};
   for (const auto& names : uv_names) {
     if (p.u >= 0) break;
     p.u = vertex.find(names[0]), p.v = vertex.find(names[1]);
@@ -333,7 +382,8 @@ Properties vertex_properties(const PlyElement& vertex) {
   p.id = vertex.find("id");
   p.vx = vertex.find("vx"), p.vy = vertex.find("vy"), p.vz = vertex.find("vz");
   if (p.vx < 0 || p.vy < 0 || p.vz < 0) p.vx = p.vy = p.vz = -1;
-  p.origin_face = vertex.find("origin_face"), p.origin_u = vertex.find("origin_u"), p.origin_v = vertex.find("origin_v");
+  p.origin_face = vertex.find("origin_face"), p.origin_u = vertex.find("origin_u"),
+  p.origin_v = vertex.find("origin_v");
   if (p.origin_face < 0 || p.origin_u < 0 || p.origin_v < 0) p.origin_face = p.origin_u = p.origin_v = -1;
   return p;
 }
@@ -361,8 +411,8 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
   }
   for (int property : {props.id, props.origin_face}) {
     if (property >= 0 && !is_integer(vertex_element->properties[property].type)) {
-      throw input_error(path, "PLY vertex property '" + vertex_element->properties[property].name +
-                                  "' must be of an integer type");
+      throw input_error(
+          path, "PLY vertex property '" + vertex_element->properties[property].name + "' must be of an integer type");
     }
   }
   const std::size_t vertex_count = static_cast<std::size_t>(vertex_element->count);
@@ -382,14 +432,15 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
   PlyReader reader(path, bytes, header);
   for (const PlyElement& element : header.elements) {
     if (element.properties.empty()) continue;
-    const bool is_vertex = &element == vertex_element, is_face = element.name == "face", is_edge = element.name == "edge";
+    const bool is_vertex = &element == vertex_element, is_face = element.name == "face",
+               is_edge = element.name == "edge";
     int indices = -1, texcoord = -1, vertex1 = -1, vertex2 = -1;
     if (is_face) {
       indices = element.find("vertex_indices");
       if (indices < 0) indices = element.find("vertex_index");
       if (indices >= 0 && (!element.properties[indices].list || !is_integer(element.properties[indices].type))) {
-        throw input_error(path, "PLY face property '" + element.properties[indices].name +
-                                    "' must be a list of integers");
+        throw input_error(path,
+                          "PLY face property '" + element.properties[indices].name + "' must be a list of integers");
       }
       texcoord = element.find("texcoord");
       if (texcoord >= 0 && !element.properties[texcoord].list) texcoord = -1;
@@ -452,9 +503,11 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
           return static_cast<float>(value);
         };
         mesh.node_pos.insert(mesh.node_pos.end(), {finite(props.x), finite(props.y), finite(props.z)});
-        if (props.nx >= 0) vertex_normal.insert(vertex_normal.end(), {finite(props.nx), finite(props.ny), finite(props.nz)});
+        if (props.nx >= 0)
+          vertex_normal.insert(vertex_normal.end(), {finite(props.nx), finite(props.ny), finite(props.nz)});
         if (props.u >= 0) vertex_uv.insert(vertex_uv.end(), {finite(props.u), finite(props.v)});
-        if (props.vx >= 0) mesh.node_vel.insert(mesh.node_vel.end(), {finite(props.vx), finite(props.vy), finite(props.vz)});
+        if (props.vx >= 0)
+          mesh.node_vel.insert(mesh.node_vel.end(), {finite(props.vx), finite(props.vy), finite(props.vz)});
         if (props.id >= 0) {
           const double id = values[props.id];
           if (id < 0 || id > static_cast<double>(max_index_count)) throw reader.fail("'id' is negative or too large");
@@ -462,7 +515,8 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
         }
         if (props.origin_face >= 0) {
           const double face = values[props.origin_face];
-          if (face < -1 || face > static_cast<double>(max_index_count)) throw reader.fail("'origin_face' is out of range");
+          if (face < -1 || face > static_cast<double>(max_index_count))
+            throw reader.fail("'origin_face' is out of range");
           mesh.node_origin_face.push_back(static_cast<index_t>(face));
           mesh.node_origin_bary.insert(mesh.node_origin_bary.end(), {finite(props.origin_u), finite(props.origin_v)});
         }
@@ -480,7 +534,8 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
         polygon_offset.push_back(corner_vertex.size());
         if (corner_vertex.size() > max_index_count) throw input_error(path, "too large: more than 2^31 face corners");
       } else if (is_edge && vertex1 >= 0 && vertex2 >= 0) {
-        mesh.torn_edge_nodes.insert(mesh.torn_edge_nodes.end(), {vertex_index(values[vertex1]), vertex_index(values[vertex2])});
+        mesh.torn_edge_nodes.insert(mesh.torn_edge_nodes.end(),
+                                    {vertex_index(values[vertex1]), vertex_index(values[vertex2])});
       }
     }
   }
@@ -491,7 +546,8 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
     mesh.node_origin_bary.clear();
   }
 
-  const bool face_uv = std::find(polygon_has_texcoord.begin(), polygon_has_texcoord.end(), 1) != polygon_has_texcoord.end();
+  const bool face_uv =
+      std::find(polygon_has_texcoord.begin(), polygon_has_texcoord.end(), 1) != polygon_has_texcoord.end();
   const bool with_uv = face_uv || !vertex_uv.empty();
   const bool with_normals = !vertex_normal.empty();
   std::vector<float> polygon_pos;
@@ -521,7 +577,8 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
           mesh.corner_uv.insert(mesh.corner_uv.end(), {0.0f, 0.0f});
         }
       }
-      if (with_normals) mesh.corner_normal.insert(mesh.corner_normal.end(), &vertex_normal[3 * v], &vertex_normal[3 * v + 3]);
+      if (with_normals)
+        mesh.corner_normal.insert(mesh.corner_normal.end(), &vertex_normal[3 * v], &vertex_normal[3 * v + 3]);
     }
     if (mesh.face_nodes.size() > max_index_count) throw input_error(path, "too large: more than 2^31 face corners");
   }

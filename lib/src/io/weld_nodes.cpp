@@ -254,8 +254,8 @@ void weld_nodes_by_id(Mesh& mesh, const std::vector<index_t>& node_id) {
   for (index_t node = 0; node < node_count; ++node) {
     if (!node_used[node]) continue;
     if (node_id[node] < 0) {
-      throw Error(ErrorKind::input,
-                  "weld_nodes_by_id: node " + std::to_string(node) + " has the negative id " + std::to_string(node_id[node]));
+      throw Error(ErrorKind::input, "weld_nodes_by_id: node " + std::to_string(node) + " has the negative id " +
+                                        std::to_string(node_id[node]));
     }
     order.push_back(node);
   }

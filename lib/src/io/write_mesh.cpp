@@ -7,8 +7,8 @@
 #include <cstring>
 #include <limits>
 #include <map>
-#include <numeric>
 #include <nlohmann/json.hpp>
+#include <numeric>
 #include <string>
 #include <utility>
 #include <vector>
@@ -59,7 +59,8 @@ void check_mesh(const Mesh& mesh, const std::string& path) {
   if (mesh.has_origins() && mesh.node_origin_face.size() != node_count) {
     throw fail("node_origin_face has the wrong size");
   }
-  if (mesh.node_origin_bary.size() != 2 * mesh.node_origin_face.size()) throw fail("node_origin_bary has the wrong size");
+  if (mesh.node_origin_bary.size() != 2 * mesh.node_origin_face.size())
+    throw fail("node_origin_bary has the wrong size");
   for (std::size_t c = 0; c < corner_count; ++c) {
     const index_t node = mesh.face_nodes[c];
     if (node < 0 || node >= mesh.node_count()) {
