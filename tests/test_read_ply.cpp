@@ -114,18 +114,19 @@ TEST_CASE("read_mesh: binary PLY in either byte order, any list and index types,
   }
 }
 
-TEST_CASE("read_mesh: a face texcoord list gives corner UVs", "[io][ply]") {
+TEST_CASE("read_mesh: a face texcoord list gives corner UVs; ASCII numbers may have a plus sign", "[io][ply]") {
   IoDir dir;
   const std::string path = dir.file("texcoord.ply",
                                     "ply\nformat ascii 1.0\nelement vertex 4\n"
                                     "property float x\nproperty float y\nproperty float z\n"
                                     "element face 1\nproperty list uchar int vertex_indices\n"
                                     "property list uchar float texcoord\nend_header\n"
-                                    "0 0 0\n1 0 0\n1 1 0\n0 1 0\n"
+                                    "0 0 0\n+1 0 0\n1 1 0\n0 1 0\n"
                                     "4 0 1 2 3 8 0 0 0.5 0 0.5 0.5 0 0.5\n");
   const tear::Mesh mesh = tear::read_mesh(path);
   CHECK(mesh.face_nodes == std::vector<tear::index_t>{0, 1, 2, 0, 2, 3});
   CHECK(mesh.corner_uv == std::vector<float>{0, 0, 0.5f, 0, 0.5f, 0.5f, 0, 0, 0.5f, 0.5f, 0, 0.5f});
+  CHECK(mesh.node_pos[3] == 1.0f);
 }
 
 TEST_CASE("read_mesh: malformed PLY files are one-line input errors, found before allocating", "[io][ply]") {
