@@ -242,6 +242,7 @@ TEST_CASE("mesh_info: json has exactly the documented keys", "[info]") {
                                           "non_manifold_nodes",
                                           "degenerate_faces",
                                           "inconsistent_edges",
+                                          "duplicate_faces",
                                           "area",
                                           "has_uv",
                                           "has_normals",

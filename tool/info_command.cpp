@@ -64,6 +64,7 @@ void print_human(std::ostream& out, const std::string& path, Device device, cons
       {"bow-tie nodes", count_why(info.non_manifold_nodes, "faces around the node form several fans")},
       {"degenerate faces", count_why(info.degenerate_faces, "repeated node or zero area")},
       {"inconsistent edges", count_why(info.inconsistent_edges, "neighbouring faces of opposite orientation")},
+      {"duplicate faces", count_why(info.duplicate_faces, "on the same three nodes as another face")},
       {"area", format_number(info.area)},
       {"min angle", info.faces ? format_number(info.min_angle_deg) + " deg" : "n/a"},
       {"uvs", yes_no(info.has_uv)},
@@ -105,9 +106,9 @@ void add_info_command(CLI::App& app) {
   auto options = std::make_shared<InfoOptions>();
   CLI::App* command = app.add_subcommand("info", "Print the counts, boundary loops, components and defects of a mesh");
   command->footer(
-      "Defects (non-manifold edges, bow-tie nodes, degenerate faces, inconsistent orientation) are reported, not "
-      "refused. A face index out of range or a non-finite coordinate is bad input (exit 2). Exit codes: 0 ok, 1 "
-      "usage error, 2 bad input, 3 runtime failure.");
+      "Defects (non-manifold edges, bow-tie nodes, degenerate faces, inconsistent orientation, duplicate faces) are "
+      "reported, not refused. A face index out of range or a non-finite coordinate is bad input (exit 2). Exit "
+      "codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure.");
   command->add_option("MESH", options->mesh_path, "Mesh file: OBJ, glTF, GLB, PLY or any format assimp reads")
       ->required()
       ->type_name("");

@@ -30,6 +30,7 @@ struct MeshInfo {
   std::int64_t non_manifold_nodes = 0;    ///< bow-tie nodes: more than one fan of faces (from MeshReport)
   std::int64_t degenerate_faces = 0;      ///< repeated node or (numerically) zero area (from MeshReport)
   std::int64_t inconsistent_edges = 0;    ///< two-face edges with opposite orientations (from MeshReport)
+  std::int64_t duplicate_faces = 0;       ///< faces on the same three nodes as another face (from MeshReport)
   double area = 0.0;                      ///< sum of the triangle areas, square metres (double sums)
   bool has_uv = false;
   bool has_normals = false;
@@ -49,7 +50,7 @@ MeshInfo compute_mesh_info(const Mesh& mesh, const Topology& topology, const Mes
 
 /// The keys `nodes`, `faces`, `edges`, `boundary_edges`, `boundary_loops`, `components`,
 /// `euler_characteristic`, `non_manifold_edges`, `non_manifold_nodes`, `degenerate_faces`,
-/// `inconsistent_edges`, `area`, `has_uv`, `has_normals`, `min_angle_deg` (null when NaN),
+/// `inconsistent_edges`, `duplicate_faces`, `area`, `has_uv`, `has_normals`, `min_angle_deg` (null when NaN),
 /// `bbox_min`, `bbox_max` ([x, y, z], null when the mesh has no node).
 nlohmann::json to_json(const MeshInfo& info);
 

@@ -78,6 +78,7 @@ MeshInfo compute_mesh_info(const Mesh& mesh, const Topology& topology, const Mes
   info.non_manifold_nodes = report.non_manifold_nodes;
   info.degenerate_faces = report.degenerate_faces;
   info.inconsistent_edges = report.inconsistent_edges;
+  info.duplicate_faces = report.duplicate_faces;
   info.has_uv = mesh.has_uv();
   info.has_normals = mesh.has_normals();
 
@@ -129,6 +130,7 @@ nlohmann::json to_json(const MeshInfo& info) {
   j["non_manifold_nodes"] = info.non_manifold_nodes;
   j["degenerate_faces"] = info.degenerate_faces;
   j["inconsistent_edges"] = info.inconsistent_edges;
+  j["duplicate_faces"] = info.duplicate_faces;
   j["area"] = number_or_null(info.area);
   j["has_uv"] = info.has_uv;
   j["has_normals"] = info.has_normals;
