@@ -7,7 +7,7 @@
 # tests/fuzz/corpus (a short name saying what it does): ctest then replays it as a regression test.
 #   scripts/fuzz.sh [MINUTES] [BUILD_DIR]
 # JOBS (default 1) runs that many fuzzing processes side by side; extra libFuzzer options go in
-# FUZZ_OPTIONS.
+# FUZZ_OPTIONS. The run goes on after a failure (libFuzzer's fork mode), so one run finds several.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 minutes=${1:-10}
@@ -27,8 +27,7 @@ export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 seconds=$((minutes * 60))
 options=(-max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1
-  -artifact_prefix="$artifacts/")
-if [ "$jobs" -gt 1 ]; then options+=(-fork="$jobs" -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1); fi
+  -artifact_prefix="$artifacts/" -fork="$jobs" -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1)
 start=$(date +%s)
 status=0
 # shellcheck disable=SC2086
