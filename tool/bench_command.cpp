@@ -3,6 +3,8 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "commands.h"
 #include "tear/bench.h"
 #include "tear/error.h"
@@ -57,10 +59,10 @@ nlohmann::json run_sizes(const BenchOptions& options, Device device, bool with_c
     BenchOptions one = options;
     one.face_counts = {faces};
     const auto row = run(one, device);
-    rows.push_back(to_json(row));
+    rows.push_back(nlohmann::json::parse(to_json(row)));
     if (with_cpu) {
       const auto cpu = run(one, Device::cpu);
-      rows.push_back(to_json(cpu));
+      rows.push_back(nlohmann::json::parse(to_json(cpu)));
       print(cpu, nullptr);
       print(row, &cpu);
     } else {
@@ -153,10 +155,10 @@ void run_bench(const BenchArgs& args) {
     for (std::size_t i = 0; i < gpu.size(); ++i) {
       if (with_cpu) {
         print_scene_row(cpu[i], nullptr);
-        rows.push_back(to_json(cpu[i]));
+        rows.push_back(nlohmann::json::parse(to_json(cpu[i])));
       }
       print_scene_row(gpu[i], with_cpu ? &cpu[i] : nullptr);
-      rows.push_back(to_json(gpu[i]));
+      rows.push_back(nlohmann::json::parse(to_json(gpu[i])));
     }
     doc["scene"] = rows;
   }

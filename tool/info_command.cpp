@@ -87,7 +87,7 @@ void run_info(const InfoOptions& options) {
   const MeshInfo info = compute_mesh_info(mesh, topology, report);
 
   if (options.json) {
-    nlohmann::json j = to_json(info);
+    nlohmann::json j = nlohmann::json::parse(to_json(info));
     j["file"] = options.mesh_path;
     j["device"] = to_string(device);
     j["device_name"] = device_name(device);

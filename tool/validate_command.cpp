@@ -5,7 +5,6 @@
 
 #include "commands.h"
 #include "tear/cut_script.h"
-#include "tear/simulation.h"
 #include "tear/error.h"
 #include "tear/run_cuts.h"
 
@@ -28,7 +27,6 @@ std::string plural(std::size_t n, const char* one, const char* many) {
 void run_validate(const ValidateOptions& options) {
   const Device device = select_device(options.device);
   const CutScript script = read_cut_script(options.script_path);
-  if (!script.simulation.is_null()) parse_simulation(script.simulation, script.path);
   if (options.has_mesh) {
     const Mesh mesh = read_checked_mesh(options.mesh_path, options.read, device);
     check_run_inputs(script, mesh, options.mesh_path, device);

@@ -6,8 +6,6 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "tear/cloth.h"
 #include "tear/demo_scene.h"
 #include "tear/device.h"
@@ -82,8 +80,9 @@ CutLine bench_cut(int segments);
 /// irregular sheet (`make_sheet`, seed 1) once; uploading the sheet is not timed.
 std::vector<BenchRow> run_remesh_bench(const BenchOptions& options, Device device);
 
-nlohmann::json to_json(const BenchRow& row);
-nlohmann::json to_json(const PdBenchRow& row);
-nlohmann::json to_json(const SceneBenchRow& row);
+/// One JSON object per row, on one line, with every field (for `tear bench --json`).
+std::string to_json(const BenchRow& row);
+std::string to_json(const PdBenchRow& row);
+std::string to_json(const SceneBenchRow& row);
 
 }  // namespace tear

@@ -3,8 +3,7 @@
 
 #include <array>
 #include <cstdint>
-
-#include <nlohmann/json.hpp>
+#include <string>
 
 #include "tear/mesh.h"
 #include "tear/topology.h"
@@ -48,10 +47,11 @@ struct MeshInfo {
 /// area, angles and box non-finite too.
 MeshInfo compute_mesh_info(const Mesh& mesh, const Topology& topology, const MeshReport& report);
 
-/// The keys `nodes`, `faces`, `edges`, `boundary_edges`, `boundary_loops`, `components`,
+/// One JSON object, on one line, with the keys `nodes`, `faces`, `edges`, `boundary_edges`, `boundary_loops`, `components`,
 /// `euler_characteristic`, `non_manifold_edges`, `non_manifold_nodes`, `degenerate_faces`,
 /// `inconsistent_edges`, `duplicate_faces`, `area`, `has_uv`, `has_normals`, `min_angle_deg` (null when NaN),
 /// `bbox_min`, `bbox_max` ([x, y, z], null when the mesh has no node).
-nlohmann::json to_json(const MeshInfo& info);
+/// Keys in alphabetical order.
+std::string to_json(const MeshInfo& info);
 
 }  // namespace tear

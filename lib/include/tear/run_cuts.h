@@ -19,7 +19,7 @@ namespace tear {
 void check_cuttable(const Mesh& mesh, const std::string& mesh_path, Device device);
 
 /// Every check of a run that needs no output: `check_script_against_mesh`, `check_cuttable`, and
-/// the script's `simulation` block (`parse_simulation`, node pins within the mesh).
+/// the node pins of the script's `simulation` block within the mesh.
 void check_run_inputs(const CutScript& script, const Mesh& mesh, const std::string& mesh_path, Device device);
 
 /// What one frame of a run did.
@@ -40,8 +40,8 @@ using FrameCallback = std::function<void(const FrameResult&, const Cloth&)>;
 /// (`Cloth::cut` with `script.snap`), then calls `on_frame`. Frames without cuts leave the cloth
 /// as it is and still call `on_frame`. `frame_count` must be in 1..script.frames (usage `Error`).
 ///
-/// When the script has a `simulation` block (read by `parse_simulation` before the first frame, so
-/// its errors come before any callback), every frame then advances the cloth by one frame (1/fps s)
+/// When the script has a `simulation` block (its node pins are resolved before the first frame, so
+/// their errors come before any callback), every frame then advances the cloth by one frame (1/fps s)
 /// with a `PdSolver`, rebuilt from the cloth's faces and rest positions on the first frame and
 /// whenever the frame's cuts changed the node or face count. Box pins are resolved again on the new
 /// rest positions; `nodes` pins name nodes of `cloth` as given and are carried through the cuts by

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <chrono>
 
+#include <nlohmann/json.hpp>
+
 #include "bench/bench_device.h"
 #include "tear/demo_scene.h"
 #include "tear/make_sheet.h"
@@ -12,6 +14,9 @@
 namespace tear {
 
 namespace {
+/// Device names come from drivers: replace bytes that are not UTF-8 rather than fail on them.
+std::string json_text(const nlohmann::json& j) { return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace); }
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
@@ -123,8 +128,8 @@ std::vector<SceneBenchRow> run_scene_bench(const BenchOptions& options, Device d
   std::vector<SceneBenchRow> rows;
   for (DemoResolution resolution : options.resolutions) {
     CutScript script = demo_script();
-    script.simulation["substeps"] = 1;
-    script.simulation["iterations"] = options.iterations;
+    script.simulation->substeps = 1;
+    script.simulation->iterations = options.iterations;
     const Mesh mesh = make_demo_sheet(resolution);
     std::vector<SceneBenchRow> runs;
     for (int run = 0; run < options.warmup + options.repeats; ++run) {
@@ -159,8 +164,8 @@ std::vector<SceneBenchRow> run_scene_bench(const BenchOptions& options, Device d
   return rows;
 }
 
-nlohmann::json to_json(const PdBenchRow& row) {
-  return {{"faces", row.faces},
+std::string to_json(const PdBenchRow& row) {
+  return json_text({{"faces", row.faces},
           {"nodes", row.nodes},
           {"constraints", row.constraints},
           {"device", to_string(row.device)},
@@ -171,25 +176,25 @@ nlohmann::json to_json(const PdBenchRow& row) {
           {"node_iterations_per_s", row.node_iterations_per_s},
           {"bytes_per_iteration", row.bytes_per_iteration},
           {"floor_ms", row.floor_ms},
-          {"peak_bytes", row.peak_bytes}};
+          {"peak_bytes", row.peak_bytes}});
 }
 
-nlohmann::json to_json(const SceneBenchRow& row) {
-  return {{"resolution", row.resolution},       {"faces_start", row.faces_start},
+std::string to_json(const SceneBenchRow& row) {
+  return json_text({{"resolution", row.resolution},       {"faces_start", row.faces_start},
           {"faces_end", row.faces_end},         {"device", to_string(row.device)},
           {"device_name", row.device_name},     {"frames", row.frames},
           {"iterations", row.iterations},       {"frame_ms_mean", row.frame_ms_mean},
           {"frame_ms_max", row.frame_ms_max},   {"remesh_ms", row.remesh_ms},
-          {"simulation_ms", row.simulation_ms}};
+          {"simulation_ms", row.simulation_ms}});
 }
 
-nlohmann::json to_json(const BenchRow& row) {
+std::string to_json(const BenchRow& row) {
   nlohmann::json stages = nlohmann::json::object();
   for (int s = 0; s < static_cast<int>(CutStage::count); ++s) stages[to_string(static_cast<CutStage>(s))] = row.stage_ms[s];
-  return {{"faces", row.faces},           {"device", to_string(row.device)}, {"device_name", row.device_name},
+  return json_text({{"faces", row.faces},           {"device", to_string(row.device)}, {"device_name", row.device_name},
           {"remesh_ms", row.remesh_ms},   {"stage_ms", stages},              {"faces_per_s", row.faces_per_s},
           {"nodes_after", row.nodes_after}, {"faces_after", row.faces_after},
-          {"peak_bytes", row.peak_bytes}};
+          {"peak_bytes", row.peak_bytes}});
 }
 
 }  // namespace tear

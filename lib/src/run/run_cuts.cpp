@@ -185,15 +185,13 @@ void check_run_inputs(const CutScript& script, const Mesh& mesh, const std::stri
   check_script_against_mesh(script, mesh, mesh_path);
   check_cuttable(mesh, mesh_path, device);
   // The simulation block, and its node pins against this mesh.
-  if (!script.simulation.is_null())
-    resolve_pins(parse_simulation(script.simulation, script.path), mesh.node_pos, mesh.node_count());
+  if (script.simulation) resolve_pins(*script.simulation, mesh.node_pos, mesh.node_count());
 }
 
 void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame) {
   check_frame_count(script, frame_count);
   std::unique_ptr<FrameSimulation> simulation;
-  if (!script.simulation.is_null())
-    simulation = std::make_unique<FrameSimulation>(parse_simulation(script.simulation, script.path), cloth);
+  if (script.simulation) simulation = std::make_unique<FrameSimulation>(*script.simulation, cloth);
   const CutOptions cut_options{script.snap};
   for (int frame = 1; frame <= frame_count; ++frame) {
     const std::vector<const Cut*> cuts = script.cuts_of_frame(frame);

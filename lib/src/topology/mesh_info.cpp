@@ -8,6 +8,8 @@
 #include <numeric>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace tear {
 
 namespace {
@@ -113,7 +115,7 @@ MeshInfo compute_mesh_info(const Mesh& mesh, const Topology& topology, const Mes
   return info;
 }
 
-nlohmann::json to_json(const MeshInfo& info) {
+std::string to_json(const MeshInfo& info) {
   auto number_or_null = [](double x) { return std::isnan(x) ? nlohmann::json(nullptr) : nlohmann::json(x); };
   auto point_or_null = [](const std::array<double, 3>& p) {
     return std::isnan(p[0]) ? nlohmann::json(nullptr) : nlohmann::json::array({p[0], p[1], p[2]});
@@ -137,7 +139,7 @@ nlohmann::json to_json(const MeshInfo& info) {
   j["min_angle_deg"] = number_or_null(info.min_angle_deg);
   j["bbox_min"] = point_or_null(info.bbox_min);
   j["bbox_max"] = point_or_null(info.bbox_max);
-  return j;
+  return j.dump();
 }
 
 }  // namespace tear
