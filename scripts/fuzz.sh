@@ -31,7 +31,9 @@ options=(-max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=6553
 start=$(date +%s)
 status=0
 # shellcheck disable=SC2086
-"$build_dir/tests/fuzz/tear_fuzz" "${options[@]}" ${FUZZ_OPTIONS:-} "$corpus" tests/fuzz/seeds tests/fuzz/corpus || status=$?
+inputs=("$corpus")
+for folder in tests/fuzz/seeds tests/fuzz/corpus; do [ -d "$folder" ] && inputs+=("$folder"); done
+"$build_dir/tests/fuzz/tear_fuzz" "${options[@]}" ${FUZZ_OPTIONS:-} "${inputs[@]}" || status=$?
 echo "fuzz: $(( ($(date +%s) - start) / 60 )) min, $(find "$corpus" -type f | wc -l) inputs in $corpus," \
   "$(find "$artifacts" -type f | wc -l) failing inputs in $artifacts"
 exit $status
