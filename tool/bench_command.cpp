@@ -8,6 +8,7 @@
 #include "commands.h"
 #include "tear/bench.h"
 #include "tear/error.h"
+#include "tear/output_files.h"
 #include "tear/write_mesh.h"
 
 namespace tear::cli {
@@ -101,6 +102,11 @@ void run_bench(const BenchArgs& args) {
       }
     }
   }
+  // Everything that can be refused is, before the first line of a table: the sizes, and that the
+  // JSON file can be written.
+  check_bench_options(options);
+  check_output_files({}, nullptr, 0, {{"the JSON output", args.json_path}});
+  if (!args.json_path.empty()) remove_stale_temporaries({args.json_path});
   std::printf("tear bench on %s%s; medians of %d runs after %d untimed, milliseconds\n", device_name(device).c_str(),
               with_cpu ? (" and " + device_name(Device::cpu)).c_str() : "", options.repeats, options.warmup);
   nlohmann::json doc = {{"device_name", device_name(device)},

@@ -10,6 +10,8 @@
 #include "progress.h"
 #include "tear/demo_scene.h"
 #include "tear/error.h"
+#include "tear/frame_path.h"
+#include "tear/output_files.h"
 #include "tear/run_cuts.h"
 
 namespace tear::cli {
@@ -36,6 +38,10 @@ void run_demo(const DemoCommandOptions& options) {
   run.device = device;
   run.report_path = options.report_path;
   const std::string mesh_name = "(demo sheet, " + std::string(to_string(resolution)) + " resolution)";
+  const FramePattern pattern(run.output_pattern);
+  pattern.check(options.frames);
+  check_output_files({}, &pattern, options.frames, {{"the report", options.report_path}});
+  remove_stale_temporaries(output_paths(pattern, options.frames, options.report_path));
   ProgressBar progress(options.frames);
   run.on_frame = [&](const FrameResult& frame, const Cloth&) {
     progress.update(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");

@@ -11,6 +11,7 @@
 #include "tear/cut_script.h"
 #include "tear/error.h"
 #include "tear/frame_path.h"
+#include "tear/output_files.h"
 #include "tear/run_cuts.h"
 
 namespace tear::cli {
@@ -62,6 +63,14 @@ void run_run(const RunCommandOptions& options) {
   if (frame_count > script.frames)
     throw Error(ErrorKind::usage, options.script_path + ": --frames " + std::to_string(frame_count) +
                                       " is more than the script's " + std::to_string(script.frames) + " frames");
+  // Every check of the inputs (run_to_files repeats them), then the outputs: none may be an input,
+  // and every folder must be writable, before anything is written.
+  const FramePattern pattern(options.output_pattern);
+  pattern.check(frame_count);
+  check_run_inputs(script, mesh, options.mesh_path, device);
+  check_output_files({{"mesh", options.mesh_path}, {"script", options.script_path}}, &pattern, frame_count,
+                     {{"the report", options.report_path}});
+  remove_stale_temporaries(output_paths(pattern, frame_count, options.report_path));
   ProgressBar progress(frame_count);
   run.on_frame = [&](const FrameResult& frame, const Cloth&) {
     if (options.verbose) {

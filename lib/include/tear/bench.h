@@ -25,6 +25,16 @@ struct BenchOptions {
   std::vector<DemoResolution> resolutions{DemoResolution::low, DemoResolution::medium, DemoResolution::high};
 };
 
+/// The most faces of a benchmark sheet: 2^28, within reach of the 32-bit node indices of a cut
+/// sheet with room to spare (and far beyond any memory the benchmark can fill).
+inline constexpr index_t max_bench_faces = index_t(1) << 28;
+
+/// Checks `options` before any benchmark runs, so that a bad size is refused before the first
+/// table line: every face count even, at least 2, not 6 (what `make_sheet` can tile) and at most
+/// `max_bench_faces`; repeats, warmup and iterations in the ranges of `tear bench`'s flags. Throws a
+/// usage `Error` naming the flag ("--faces 3: ...").
+void check_bench_options(const BenchOptions& options);
+
 /// One size on one backend. Times are medians over the repeats, milliseconds.
 struct BenchRow {
   index_t faces = 0;

@@ -7,6 +7,7 @@
 
 #include "bench/bench_device.h"
 #include "tear/demo_scene.h"
+#include "tear/error.h"
 #include "tear/make_sheet.h"
 #include "tear/run_cuts.h"
 #include "tear/simulation.h"
@@ -22,6 +23,22 @@ double median(std::vector<double> v) {
   return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 }  // namespace
+
+void check_bench_options(const BenchOptions& options) {
+  for (index_t faces : options.face_counts)
+    if (faces < 2 || faces % 2 != 0 || faces == 6 || faces > max_bench_faces)
+      throw Error(ErrorKind::usage, "--faces " + std::to_string(faces) +
+                                        ": expected an even number of faces from 2 to " +
+                                        std::to_string(max_bench_faces) + ", not 6 (what a sheet can be tiled with)");
+  if (options.face_counts.empty()) throw Error(ErrorKind::usage, "--faces: expected at least one size");
+  if (options.repeats < 1 || options.repeats > 1000)
+    throw Error(ErrorKind::usage, "--repeats " + std::to_string(options.repeats) + ": expected 1..1000");
+  if (options.warmup < 0 || options.warmup > 1000)
+    throw Error(ErrorKind::usage, "--warmup " + std::to_string(options.warmup) + ": expected 0..1000");
+  if (options.iterations < 1 || options.iterations > 100000)
+    throw Error(ErrorKind::usage, "--iterations " + std::to_string(options.iterations) + ": expected 1..100000");
+  if (options.segments < 1) throw Error(ErrorKind::usage, "segments " + std::to_string(options.segments) + ": expected >= 1");
+}
 
 CutLine bench_cut(int segments) {
   CutLine line;
