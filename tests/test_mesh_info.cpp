@@ -245,6 +245,7 @@ TEST_CASE("mesh_info: json has exactly the documented keys", "[info]") {
                                           "degenerate_faces",
                                           "inconsistent_edges",
                                           "duplicate_faces",
+                                          "sliver_faces",
                                           "area",
                                           "has_uv",
                                           "has_normals",

@@ -67,11 +67,19 @@ void print_human(std::ostream& out, const std::string& path, Device device, cons
       {"duplicate faces", count_why(info.duplicate_faces, "on the same three nodes as another face")},
       {"area", format_number(info.area)},
       {"min angle", info.faces ? format_number(info.min_angle_deg) + " deg" : "n/a"},
+      {"sliver faces", info.sliver_faces ? std::to_string(info.sliver_faces) + " (an angle under " +
+                                               format_number(sliver_angle_deg) +
+                                               " deg: cuts near them make thinner slivers still)"
+                                         : "0"},
       {"uvs", yes_no(info.has_uv)},
       {"normals", yes_no(info.has_normals)},
       {"bbox min", format_point(info.bbox_min)},
       {"bbox max", format_point(info.bbox_max)},
-      {"cuttable", report.ok() ? "yes" : "no: " + report.describe()},
+      {"cuttable", !report.ok()          ? "no: " + report.describe()
+                   : info.sliver_faces ? "yes, with " + std::to_string(info.sliver_faces) +
+                                             (info.sliver_faces == 1 ? " sliver face" : " sliver faces") +
+                                             " (warning: see above)"
+                                       : "yes"},
   };
   std::size_t width = 0;
   for (const auto& row : rows) width = std::max(width, row.first.size());

@@ -41,8 +41,11 @@ std::string check_positive_int(const std::string& text) {
 
 void print_frame(const FrameResult& frame, int frame_count) {
   const CutStats& s = frame.stats;
+  // Cuts that split nothing (they missed the cloth, or retraced a tear) are said to have done so.
+  const bool changed = s.nodes_after != s.nodes_before || s.faces_after != s.faces_before;
   std::cout << "frame " << frame.frame << '/' << frame_count << ": " << frame.cut_count
-            << (frame.cut_count == 1 ? " cut, " : " cuts, ") << s.nodes_before << " -> " << s.nodes_after << " nodes, "
+            << (frame.cut_count == 1 ? " cut" : " cuts") << (frame.cut_count > 0 && !changed ? " (changed nothing), " : ", ")
+            << s.nodes_before << " -> " << s.nodes_after << " nodes, "
             << s.faces_before << " -> " << s.faces_after << " faces, " << frame.path << std::endl;
   if (!std::cout) throw runtime_error("cannot write to standard output");
 }

@@ -7,6 +7,7 @@
 #include "tear/cut_script.h"
 #include "tear/error.h"
 #include "tear/run_cuts.h"
+#include "tear/script_warnings.h"
 
 namespace tear::cli {
 
@@ -30,6 +31,9 @@ void run_validate(const ValidateOptions& options) {
   if (options.has_mesh) {
     const Mesh mesh = read_checked_mesh(options.mesh_path, options.read, device);
     check_run_inputs(script, mesh, options.mesh_path, device);
+    // Allowed, but probably not meant: said on standard error, and the script is still ok.
+    for (const std::string& warning : script_warnings(script, mesh, options.mesh_path, device))
+      std::cerr << "tear: warning: " << warning << '\n';
   }
   std::cout << options.script_path << ": ok (" << plural(script.cuts.size(), "cut", "cuts") << " over "
             << plural(static_cast<std::size_t>(script.frames), "frame", "frames") << ")" << std::endl;
