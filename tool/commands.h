@@ -6,10 +6,12 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "tear/device.h"
+#include "tear/frame_path.h"
 #include "tear/mesh.h"
 #include "tear/read_mesh.h"
 
@@ -43,5 +45,8 @@ void add_read_options(CLI::App& command, ReadOptions& options);
 /// range or a non-finite coordinate throws an input `Error` naming the file and the counts, so that
 /// what is returned can go to `build_topology`.
 Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Device device);
+
+/// The files a run writes: the frames 1..frame_count of `pattern`, then the report when there is one.
+std::vector<std::string> output_paths(const FramePattern& pattern, int frame_count, const std::string& report_path);
 
 }  // namespace tear::cli

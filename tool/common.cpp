@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "commands.h"
 #include "tear/error.h"
@@ -62,6 +63,14 @@ Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Devi
     throw input_error(path, report.describe() + " (the mesh has " + plural(mesh.node_count(), "node", "nodes") +
                                 " and " + plural(mesh.face_count(), "face", "faces") + ")");
   return mesh;
+}
+
+std::vector<std::string> output_paths(const FramePattern& pattern, int frame_count, const std::string& report_path) {
+  std::vector<std::string> paths;
+  for (int frame = 1; frame <= (pattern.has_frame_number() ? frame_count : 1); ++frame)
+    paths.push_back(pattern.path(frame));
+  if (!report_path.empty()) paths.push_back(report_path);
+  return paths;
 }
 
 }  // namespace tear::cli

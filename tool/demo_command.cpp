@@ -11,6 +11,8 @@
 #include "progress.h"
 #include "tear/demo_scene.h"
 #include "tear/error.h"
+#include "tear/frame_path.h"
+#include "tear/output_files.h"
 #include "tear/run_cuts.h"
 
 namespace tear::cli {
@@ -38,6 +40,13 @@ void run_demo(const DemoCommandOptions& options) {
   run.device = device;
   run.report_path = options.report_path;
   const std::string mesh_name = "(demo sheet, " + std::string(to_string(resolution)) + " resolution)";
+  const FramePattern pattern(run.output_pattern);
+  pattern.check(options.frames);
+  check_output_files({}, &pattern, options.frames,
+                     {{"the report", options.report_path}, {"the checkpoint", options.farm.checkpoint_path}});
+  std::vector<std::string> outputs = output_paths(pattern, options.frames, options.report_path);
+  if (!options.farm.checkpoint_path.empty()) outputs.push_back(options.farm.checkpoint_path);
+  remove_stale_temporaries(outputs);
   apply_farm_options(options.farm, run);
   FrameProgress progress(options.farm.progress, options.frames);
   run.on_frame = [&](const FrameResult& frame, const Cloth&) {

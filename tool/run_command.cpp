@@ -12,6 +12,7 @@
 #include "tear/cut_script.h"
 #include "tear/error.h"
 #include "tear/frame_path.h"
+#include "tear/output_files.h"
 #include "tear/run_cuts.h"
 
 namespace tear::cli {
@@ -42,8 +43,11 @@ std::string check_positive_int(const std::string& text) {
 
 void print_frame(const FrameResult& frame, int frame_count) {
   const CutStats& s = frame.stats;
+  // Cuts that split nothing (they missed the cloth, or retraced a tear) are said to have done so.
+  const bool changed = s.nodes_after != s.nodes_before || s.faces_after != s.faces_before;
   std::cout << "frame " << frame.frame << '/' << frame_count << ": " << frame.cut_count
-            << (frame.cut_count == 1 ? " cut, " : " cuts, ") << s.nodes_before << " -> " << s.nodes_after << " nodes, "
+            << (frame.cut_count == 1 ? " cut" : " cuts") << (frame.cut_count > 0 && !changed ? " (changed nothing), " : ", ")
+            << s.nodes_before << " -> " << s.nodes_after << " nodes, "
             << s.faces_before << " -> " << s.faces_after << " faces, " << frame.path << std::endl;
   if (!std::cout) throw runtime_error("cannot write to standard output");
 }
@@ -64,8 +68,19 @@ void run_run(const RunCommandOptions& options) {
   if (frame_count > script.frames)
     throw Error(ErrorKind::usage, options.script_path + ": --frames " + std::to_string(frame_count) +
                                       " is more than the script's " + std::to_string(script.frames) + " frames");
+  // Every check of the inputs (run_to_files repeats them), then the outputs: none may be an input,
+  // and every folder must be writable, before anything is written.
+  const FramePattern pattern(options.output_pattern);
+  pattern.check(frame_count);
+  check_run_inputs(script, mesh, options.mesh_path, device);
+  check_output_files({{"mesh", options.mesh_path}, {"script", options.script_path}}, &pattern, frame_count,
+                     {{"the report", options.report_path}, {"the checkpoint", options.farm.checkpoint_path}});
+  std::vector<std::string> outputs = output_paths(pattern, frame_count, options.report_path);
+  if (!options.farm.checkpoint_path.empty()) outputs.push_back(options.farm.checkpoint_path);
+  remove_stale_temporaries(outputs);
   // What changes results besides the mesh, the script and the device, for the checkpoint's digest.
-  run.result_options = "mesh-name=" + options.read.mesh_name + ";weld-tolerance=" + std::to_string(options.read.weld_tolerance);
+  run.result_options = "mesh-name=" + options.read.mesh_name + ";weld-tolerance=" + std::to_string(options.read.weld_tolerance) +
+                       ";weld=" + (options.read.weld ? "1" : "0");
   apply_farm_options(options.farm, run);
   FrameProgress progress(options.farm.progress, frame_count);
   run.on_frame = [&](const FrameResult& frame, const Cloth&) {

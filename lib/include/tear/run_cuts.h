@@ -15,12 +15,12 @@ namespace tear {
 
 /// Throws an input `Error` "<mesh_path>: cannot be cut: <what is wrong>" unless `mesh` passes every
 /// check of `validate_mesh` (indices in range, finite coordinates, no degenerate face, no
-/// non-manifold edge, no bow-tie node, consistent orientation): the remesher needs an oriented
-/// manifold.
+/// non-manifold edge, no bow-tie node, consistent orientation, no two faces on the same three
+/// nodes): the remesher needs an oriented manifold that a cut can split.
 void check_cuttable(const Mesh& mesh, const std::string& mesh_path, Device device);
 
 /// Every check of a run that needs no output: `check_script_against_mesh`, `check_cuttable`, and
-/// the script's `simulation` block (`parse_simulation`, node pins within the mesh).
+/// the node pins of the script's `simulation` block within the mesh.
 void check_run_inputs(const CutScript& script, const Mesh& mesh, const std::string& mesh_path, Device device);
 
 /// What one frame of a run did.

@@ -3,16 +3,16 @@
 #include <cmath>
 
 #include "cloth/cloth_engine.h"
+#include "script/unit_vector.h"
 #include "tear/error.h"
 
 namespace tear {
 
 namespace {
 using Vec3 = std::array<double, 3>;
-Vec3 normalized(const Vec3& v) {
-  const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  return {v[0] / len, v[1] / len, v[2] / len};
-}
+// Scaled by the largest component first: a direction such as [1e308, 1e308, 0] or [0, 0, 1e-320]
+// would overflow or underflow its squared length.
+Vec3 normalized(const Vec3& v) { return unit_vector(v); }
 Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }

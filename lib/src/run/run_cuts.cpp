@@ -128,15 +128,13 @@ void check_run_inputs(const CutScript& script, const Mesh& mesh, const std::stri
   check_script_against_mesh(script, mesh, mesh_path);
   check_cuttable(mesh, mesh_path, device);
   // The simulation block, and its node pins against this mesh.
-  if (!script.simulation.is_null())
-    resolve_pins(parse_simulation(script.simulation, script.path), mesh.node_pos, mesh.node_count());
+  if (script.simulation) resolve_pins(*script.simulation, mesh.node_pos, mesh.node_count());
 }
 
 void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame,
               int first_frame) {
   check_frame_count(script, frame_count);
-  if (!script.simulation.is_null() && !cloth.simulated())
-    cloth.simulate(parse_simulation(script.simulation, script.path));
+  if (script.simulation && !cloth.simulated()) cloth.simulate(*script.simulation);
   const CutOptions cut_options{script.snap};
   for (int frame = first_frame; frame <= frame_count; ++frame) {
     const std::vector<const Cut*> cuts = script.cuts_of_frame(frame);
@@ -191,7 +189,7 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     const Checkpoint checkpoint = read_checkpoint(options.checkpoint_path);
     const std::string why = inputs_mismatch(checkpoint.inputs, inputs);
     if (!why.empty()) throw input_error(options.checkpoint_path, "cannot resume from this checkpoint: " + why);
-    if (!script.simulation.is_null()) cloth.simulate(parse_simulation(script.simulation, script.path));
+    if (script.simulation) cloth.simulate(*script.simulation);
     cloth.load_state(checkpoint.cloth_state, options.checkpoint_path);
     first_frame = checkpoint.frame + 1;
   }
