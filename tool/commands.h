@@ -35,6 +35,9 @@ void add_validate_command(CLI::App& app);
 /// usage error whatever the input.
 CLI::Option* add_device_option(CLI::App& command, std::string& spec);
 
+/// Adds `--start-frame N` (an integer >= 0; default: what `start_frame` holds) to `command`.
+CLI::Option* add_start_frame_option(CLI::App& command, int& start_frame);
+
 /// Adds `--mesh-name NAME` and `--weld-tolerance T` (finite, >= 0) to `command`, stored in `options`.
 void add_read_options(CLI::App& command, ReadOptions& options);
 
