@@ -39,36 +39,78 @@ Error write_error(const std::string& path, int error) {
 }
 
 /// Text built with `std::to_chars`: no locale, and for a float the shortest digits that read back
-/// to the same float, so the same values always give the same bytes.
+/// to the same float, so the same values always give the same bytes. Numbers are written straight
+/// into the buffer (a layer is mostly numbers: 700,000 per frame of the paper's high-resolution
+/// scene).
 class Text {
  public:
-  std::string& str() { return text_; }
-  void clear() { text_.clear(); }
-  Text& operator<<(const char* s) {
-    text_ += s;
+  std::string& str() {
+    text_.resize(size_);
+    return text_;
+  }
+  const char* data() const { return text_.data(); }
+  std::size_t size() const { return size_; }
+  void clear() { size_ = 0; }
+  template <std::size_t n>
+  Text& operator<<(const char (&literal)[n]) {
+    append(literal, n - 1);
     return *this;
   }
   Text& operator<<(const std::string& s) {
-    text_ += s;
+    append(s.data(), s.size());
     return *this;
   }
   Text& operator<<(char c) {
-    text_ += c;
+    *room(1) = c;
+    ++size_;
     return *this;
   }
-  Text& operator<<(float value) { return put(value); }
-  Text& operator<<(double value) { return put(value); }
-  Text& operator<<(int value) { return put(value); }
+  Text& operator<<(float value) { return number(value); }
+  Text& operator<<(double value) { return number(value); }
+  Text& operator<<(int value) { return number(value); }
+
+  /// `(x, y, z)` or `(s, t)`: `width` floats in parentheses.
+  void tuple(const float* values, int width) {
+    char* out = room(2 + static_cast<std::size_t>(width) * (max_digits + 2));
+    char* const start = out;
+    *out++ = '(';
+    for (int k = 0; k < width; ++k) {
+      if (k) *out++ = ',', *out++ = ' ';
+      out = std::to_chars(out, out + max_digits, values[k]).ptr;
+    }
+    *out++ = ')';
+    size_ += static_cast<std::size_t>(out - start);
+  }
+
+  /// Appends a copy of `[begin, begin + count)` of this text.
+  void repeat(std::size_t begin, std::size_t count) {
+    char* out = room(count);
+    std::memcpy(out, text_.data() + begin, count);
+    size_ += count;
+  }
+
+  void append(const char* s, std::size_t count) {
+    std::memcpy(room(count), s, count);
+    size_ += count;
+  }
 
  private:
+  static constexpr std::size_t max_digits = 24;  // a float's shortest text is at most 15 chars, a double's 24
+
+  /// Room for `count` more chars at the end; returns where they go.
+  char* room(std::size_t count) {
+    if (size_ + count > text_.size()) text_.resize(std::max(2 * text_.size(), size_ + count + 4096));
+    return text_.data() + size_;
+  }
   template <typename T>
-  Text& put(T value) {
-    char digits[32];
-    const std::to_chars_result end = std::to_chars(digits, digits + sizeof digits, value);
-    text_.append(digits, end.ptr);
+  Text& number(T value) {
+    char* out = room(max_digits);
+    size_ += static_cast<std::size_t>(std::to_chars(out, out + max_digits, value).ptr - out);
     return *this;
   }
-  std::string text_;
+
+  std::string text_;  // [0, size_) is the text; the rest is room
+  std::size_t size_ = 0;
 };
 
 /// The attributes of the mesh, in the order the layer holds them.
@@ -124,7 +166,28 @@ void check_arrays(const Mesh& mesh, const std::string& path) {
   if (mesh.has_velocities() && mesh.node_vel.size() != mesh.node_pos.size()) throw fail("node_vel has the wrong size");
 }
 
-void put_vec3(Text& text, const float* v) { text << '(' << v[0] << ", " << v[1] << ", " << v[2] << ')'; }
+/// Per-corner values `corner_values` [corner_count * width] as tuples. The corners of one node
+/// mostly share their value (a node's UV away from seams, its normal away from hard edges), so a
+/// corner whose value is bit for bit that of its node's previous corner copies that corner's text.
+void put_corner_tuples(Text& text, const Mesh& mesh, const std::vector<float>& corner_values, int width) {
+  struct Previous {
+    std::size_t corner = 0, begin = 0, count = 0;
+  };
+  std::vector<Previous> node_previous(static_cast<std::size_t>(mesh.node_count()));
+  const std::size_t bytes = static_cast<std::size_t>(width) * sizeof(float);
+  for (std::size_t c = 0; c < mesh.face_nodes.size(); ++c) {
+    if (c) text << ", ";
+    const float* value = &corner_values[width * c];
+    Previous& previous = node_previous[static_cast<std::size_t>(mesh.face_nodes[c])];
+    if (previous.count > 0 && std::memcmp(value, &corner_values[width * previous.corner], bytes) == 0) {
+      text.repeat(previous.begin, previous.count);
+      continue;
+    }
+    const std::size_t begin = text.size();
+    text.tuple(value, width);
+    previous = {c, begin, text.size() - begin};
+  }
+}
 
 /// 1 for each corner whose edge to the next corner of its face is a torn edge, else 0.
 std::vector<char> corner_tear_edge(const Mesh& mesh) {
@@ -153,7 +216,10 @@ void put_sample(Text& text, Attribute a, int frame, const Mesh& mesh) {
   const std::size_t corner_count = mesh.face_nodes.size();
   switch (a) {
     case Attribute::face_vertex_counts:
-      for (std::size_t f = 0; f < corner_count / 3; ++f) text << (f ? ", 3" : "3");
+      for (std::size_t f = 0; f < corner_count / 3; ++f) {
+        if (f) text << ", ";
+        text << '3';
+      }
       break;
     case Attribute::face_vertex_indices:
       for (std::size_t c = 0; c < corner_count; ++c) {
@@ -164,14 +230,14 @@ void put_sample(Text& text, Attribute a, int frame, const Mesh& mesh) {
     case Attribute::points:
       for (std::size_t n = 0; n < node_count; ++n) {
         if (n) text << ", ";
-        put_vec3(text, &mesh.node_pos[3 * n]);
+        text.tuple(&mesh.node_pos[3 * n], 3);
       }
       break;
     case Attribute::velocities: {
       const float zero[3] = {0, 0, 0};
       for (std::size_t n = 0; n < node_count; ++n) {
         if (n) text << ", ";
-        put_vec3(text, mesh.has_velocities() ? &mesh.node_vel[3 * n] : zero);
+        text.tuple(mesh.has_velocities() ? &mesh.node_vel[3 * n] : zero, 3);
       }
       break;
     }
@@ -184,26 +250,23 @@ void put_sample(Text& text, Attribute a, int frame, const Mesh& mesh) {
           lo[k] = std::min(lo[k], mesh.node_pos[3 * n + k]);
           hi[k] = std::max(hi[k], mesh.node_pos[3 * n + k]);
         }
-      put_vec3(text, lo);
+      text.tuple(lo, 3);
       text << ", ";
-      put_vec3(text, hi);
+      text.tuple(hi, 3);
       break;
     }
     case Attribute::normals:
-      for (std::size_t c = 0; c < corner_count; ++c) {
-        if (c) text << ", ";
-        put_vec3(text, &mesh.corner_normal[3 * c]);
-      }
+      put_corner_tuples(text, mesh, mesh.corner_normal, 3);
       break;
     case Attribute::st:
-      for (std::size_t c = 0; c < corner_count; ++c) {
-        if (c) text << ", ";
-        text << '(' << mesh.corner_uv[2 * c] << ", " << mesh.corner_uv[2 * c + 1] << ')';
-      }
+      put_corner_tuples(text, mesh, mesh.corner_uv, 2);
       break;
     case Attribute::tear_edge: {
       const std::vector<char> marks = corner_tear_edge(mesh);
-      for (std::size_t c = 0; c < corner_count; ++c) text << (c ? (marks[c] ? ", 1" : ", 0") : (marks[c] ? "1" : "0"));
+      for (std::size_t c = 0; c < corner_count; ++c) {
+        if (c) text << ", ";
+        text << (marks[c] ? '1' : '0');
+      }
       break;
     }
     case Attribute::count:
@@ -223,7 +286,7 @@ std::string layer_head(int first_frame, int last_frame, const UsdLayerOptions& o
        << "    metersPerUnit = " << options.meters_per_unit << "\n"
        << "    startTimeCode = " << first_frame << "\n"
        << "    timeCodesPerSecond = " << options.frames_per_second << "\n"
-       << "    upAxis = \"" << to_string(options.up_axis) << "\"\n"
+       << "    upAxis = \"" << std::string(to_string(options.up_axis)) << "\"\n"
        << ")\n\n"
        << "def Mesh \"cloth\"\n{\n"
        // Cloth is seen from both sides; the triangles are the surface (no subdivision), which
@@ -331,8 +394,7 @@ struct UsdLayer::Sequence {
       if (!files[i]) continue;
       sample.clear();
       put_sample(sample, static_cast<Attribute>(i), frame, mesh);
-      const std::string& bytes = sample.str();
-      if (std::fwrite(bytes.data(), 1, bytes.size(), files[i]) != bytes.size()) throw write_error(path, errno);
+      if (std::fwrite(sample.data(), 1, sample.size(), files[i]) != sample.size()) throw write_error(path, errno);
     }
   }
 
