@@ -7,10 +7,15 @@
 #include <cctype>
 #include <cerrno>
 #include <charconv>
+#include <condition_variable>
 #include <cstdint>
 #include <cstdio>
 #include <cstring>
+#include <deque>
+#include <exception>
+#include <mutex>
 #include <string>
+#include <thread>
 #include <utility>
 #include <vector>
 
@@ -365,7 +370,13 @@ std::string usda_layer_text(const Mesh& mesh, int frame, const UsdLayerOptions& 
 }
 
 /// One layer for many frames: each attribute's samples streamed to a temporary file of its own.
+/// A thread of the layer's own formats and appends the samples, so that encoding and writing run
+/// beside the simulation rather than on its path; at most `max_pending` frames wait for it (their
+/// meshes copied), so memory stays bounded. It takes frames in order, so the bytes do not depend
+/// on its timing.
 struct UsdLayer::Sequence {
+  static constexpr std::size_t max_pending = 2;
+
   std::string path;
   AttributeSet attributes;
   std::FILE* files[attribute_count] = {};
@@ -373,10 +384,68 @@ struct UsdLayer::Sequence {
   std::string assembled_path;  // the layer before its rename
   int first_frame = 0, last_frame = 0;
   bool opened = false, finished = false;
-  Text sample;
+  Text sample;  // the writer's
+
+  std::thread writer;
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::deque<std::pair<int, Mesh>> pending;  // guarded by `mutex`; the front one is being written
+  bool closing = false, abandoning = false;  // guarded by `mutex`
+  std::exception_ptr failure;                // the writer's, guarded by `mutex`
 
   explicit Sequence(std::string layer_path) : path(std::move(layer_path)) {}
-  ~Sequence() { remove_temporaries(); }
+  ~Sequence() {
+    stop(true);
+    remove_temporaries();
+  }
+
+  /// Queues frame `frame` for the writer, waiting while `max_pending` frames wait; rethrows a
+  /// failure of the writer.
+  void push(int frame, const Mesh& mesh) {
+    if (!writer.joinable()) writer = std::thread([this] { write_pending(); });
+    std::unique_lock<std::mutex> lock(mutex);
+    changed.wait(lock, [&] { return failure || pending.size() < max_pending; });
+    if (failure) std::rethrow_exception(failure);
+    pending.emplace_back(frame, mesh);
+    changed.notify_all();
+  }
+
+  /// The writer: appends the pending frames in order until closed (and, unless abandoning, empty).
+  void write_pending() {
+    for (;;) {
+      std::unique_lock<std::mutex> lock(mutex);
+      changed.wait(lock, [&] { return closing || !pending.empty(); });
+      if (pending.empty() || abandoning) return;
+      // A deque keeps references to its elements when the other end grows.
+      const std::pair<int, Mesh>& next = pending.front();
+      lock.unlock();
+      try {
+        append(next.second, next.first);
+      } catch (...) {
+        lock.lock();
+        failure = std::current_exception();
+        pending.clear();
+        changed.notify_all();
+        return;
+      }
+      lock.lock();
+      pending.pop_front();
+      changed.notify_all();
+    }
+  }
+
+  /// Ends the writer once it has written every pending frame (`abandon`: at once); rethrows its
+  /// failure unless abandoning.
+  void stop(bool abandon) {
+    {
+      std::lock_guard<std::mutex> lock(mutex);
+      closing = true;
+      abandoning = abandon;
+    }
+    changed.notify_all();
+    if (writer.joinable()) writer.join();
+    if (!abandon && failure) std::rethrow_exception(failure);
+  }
 
   void open(const AttributeSet& set) {
     attributes = set;
@@ -399,6 +468,7 @@ struct UsdLayer::Sequence {
   }
 
   void assemble(const UsdLayerOptions& options) {
+    stop(false);
     for (int i = 0; i < attribute_count; ++i) {
       if (!files[i]) continue;
       const int failed = std::fclose(files[i]);
@@ -490,7 +560,7 @@ void UsdLayer::write(int frame, const Mesh& mesh) {
     } else {
       s.open(attributes);
     }
-    s.append(mesh, frame);
+    s.push(frame, mesh);
     s.last_frame = frame;
   } catch (...) {
     sequence_.reset();
