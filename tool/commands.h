@@ -37,6 +37,9 @@ void add_validate_command(CLI::App& app);
 /// usage error whatever the input.
 CLI::Option* add_device_option(CLI::App& command, std::string& spec);
 
+/// Adds `--start-frame N` (an integer >= 0; default: what `start_frame` holds) to `command`.
+CLI::Option* add_start_frame_option(CLI::App& command, int& start_frame);
+
 /// Adds `--mesh-name NAME`, `--weld-tolerance T` (finite, >= 0) and `--no-weld` to `command`, stored
 /// in `options`.
 void add_read_options(CLI::App& command, ReadOptions& options);
@@ -46,7 +49,9 @@ void add_read_options(CLI::App& command, ReadOptions& options);
 /// what is returned can go to `build_topology`.
 Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Device device);
 
-/// The files a run writes: the frames 1..frame_count of `pattern`, then the report when there is one.
-std::vector<std::string> output_paths(const FramePattern& pattern, int frame_count, const std::string& report_path);
+/// The files a run writes: the `frame_count` frames of `pattern` numbered from `first_number`, then
+/// the report when there is one.
+std::vector<std::string> output_paths(const FramePattern& pattern, int frame_count, const std::string& report_path,
+                                      int first_number = 1);
 
 }  // namespace tear::cli

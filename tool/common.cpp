@@ -1,4 +1,6 @@
 // Options and input handling shared by the subcommands.
+#include <cerrno>
+#include <climits>
 #include <cmath>
 #include <cstdlib>
 #include <string>
@@ -21,6 +23,16 @@ std::string check_finite_non_negative(const std::string& text) {
   return {};
 }
 
+/// Accepts an integer from 0 to INT_MAX.
+std::string check_non_negative_int(const std::string& text) {
+  char* end = nullptr;
+  errno = 0;
+  const long value = std::strtol(text.c_str(), &end, 10);
+  if (text.empty() || end != text.c_str() + text.size() || errno != 0 || value < 0 || value > INT_MAX)
+    return "expected an integer >= 0, got '" + text + "'";
+  return {};
+}
+
 std::string plural(std::int64_t n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
 }
@@ -33,6 +45,16 @@ CLI::Option* add_device_option(CLI::App& command, std::string& spec) {
                   "Backend that runs the kernels: 'auto' (a CUDA GPU when one is usable, else the CPU), 'cpu', "
                   "'cuda' (fails when no GPU is usable) or 'cuda:N' (GPU number N)")
       ->type_name("auto|cpu|cuda|cuda:N")
+      ->capture_default_str();
+}
+
+CLI::Option* add_start_frame_option(CLI::App& command, int& start_frame) {
+  return command
+      .add_option("--start-frame", start_frame,
+                  "Number of the first frame in file names, USD time codes, the report and -v lines (the "
+                  "script's frame 1 is written as this frame); an integer >= 0")
+      ->type_name("N")
+      ->check(CLI::Validator(check_non_negative_int, ""))
       ->capture_default_str();
 }
 
@@ -65,9 +87,10 @@ Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Devi
   return mesh;
 }
 
-std::vector<std::string> output_paths(const FramePattern& pattern, int frame_count, const std::string& report_path) {
+std::vector<std::string> output_paths(const FramePattern& pattern, int frame_count, const std::string& report_path,
+                                      int first_number) {
   std::vector<std::string> paths;
-  for (int frame = 1; frame <= (pattern.has_frame_number() ? frame_count : 1); ++frame)
+  for (int frame = first_number; frame < first_number + (pattern.has_frame_number() ? frame_count : 1); ++frame)
     paths.push_back(pattern.path(frame));
   if (!report_path.empty()) paths.push_back(report_path);
   return paths;

@@ -1,5 +1,6 @@
 // `tear demo`: the paper's scene (a sheet torn by six cuts, hanging from its top edge) with no input
-// files, one OBJ per frame.
+// files, one OBJ per frame (or any output `tear run` writes, a USD layer among them).
+#include <cctype>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -26,25 +27,43 @@ struct DemoCommandOptions {
   std::string report_path;
   int frames = demo_frames;
   FarmOptions farm;
+  int start_frame = 1;
 };
+
+/// `-o` names a folder, or, when its file name has an extension tear writes, an output pattern as
+/// for `tear run` (`out/demo.####.ply`, `shot.usda`).
+std::string output_pattern(const std::string& output) {
+  const std::size_t slash = output.find_last_of('/');
+  const std::string name = slash == std::string::npos ? output : output.substr(slash + 1);
+  const std::size_t dot = name.find_last_of('.');
+  std::string extension = dot == std::string::npos ? "" : name.substr(dot + 1);
+  for (char& c : extension) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  for (const char* known : {"obj", "ply", "gltf", "glb", "usda", "usd"})
+    if (extension == known) return output;
+  return output + "/demo.####.obj";
+}
 
 void run_demo(const DemoCommandOptions& options) {
   const Device device = select_device(options.device);
+  const std::string pattern = output_pattern(options.output_folder);
+  FramePattern(pattern).check(1);
   const DemoResolution resolution = parse_demo_resolution(options.resolution);
   const Mesh sheet = make_demo_sheet(resolution);
   const CutScript script = demo_script();
 
   RunOptions run;
-  run.output_pattern = options.output_folder + "/demo.####.obj";
+  run.output_pattern = pattern;
   run.frames = options.frames;
+  run.start_frame = options.start_frame;
   run.device = device;
   run.report_path = options.report_path;
   const std::string mesh_name = "(demo sheet, " + std::string(to_string(resolution)) + " resolution)";
-  const FramePattern pattern(run.output_pattern);
-  pattern.check(options.frames);
-  check_output_files({}, &pattern, options.frames,
-                     {{"the report", options.report_path}, {"the checkpoint", options.farm.checkpoint_path}});
-  std::vector<std::string> outputs = output_paths(pattern, options.frames, options.report_path);
+  const FramePattern frames(run.output_pattern);
+  frames.check(options.frames, options.start_frame);
+  check_output_files({}, &frames, options.frames,
+                     {{"the report", options.report_path}, {"the checkpoint", options.farm.checkpoint_path}},
+                     options.start_frame);
+  std::vector<std::string> outputs = output_paths(frames, options.frames, options.report_path, options.start_frame);
   if (!options.farm.checkpoint_path.empty()) outputs.push_back(options.farm.checkpoint_path);
   remove_stale_temporaries(outputs);
   apply_farm_options(options.farm, run);
@@ -71,9 +90,13 @@ void add_demo_command(CLI::App& app) {
       app.add_subcommand("demo", "Run the paper's scene (a hanging sheet torn by six cuts) and write every frame");
   command->footer(
       "Writes DIR/demo.0001.obj ... DIR/demo.0048.obj: two seconds at 24 fps, a cut every 8 frames from frame 4, "
-      "the top edge pinned, gravity along -y. Needs no input file. Exit codes: 0 ok, 1 usage error, 3 runtime "
-      "failure.");
-  command->add_option("-o,--output", options->output_folder, "Output folder (default: demo)")->type_name("DIR");
+      "the top edge pinned, gravity along -y. An -o whose file name ends in .obj, .ply, .gltf, .glb, .usda or .usd "
+      "is an output pattern as for 'tear run' instead (out/demo.####.ply; shot.usda, one USD layer). Needs no "
+      "input file. Exit codes: 0 ok, 1 usage error, 3 runtime failure.");
+  command
+      ->add_option("-o,--output", options->output_folder,
+                   "Output folder (default: demo), or an output pattern such as out/demo.####.ply or shot.usda")
+      ->type_name("DIR|PATTERN");
   command
       ->add_option("--resolution", options->resolution,
                    "Sheet resolution: low (2,822 faces, the default), "
@@ -84,6 +107,7 @@ void add_demo_command(CLI::App& app) {
       ->type_name("FILE");
   // Hidden: runs only the first N frames, for quick checks and tests.
   command->add_option("--frames", options->frames)->check(CLI::Range(1, demo_frames))->group("");
+  add_start_frame_option(*command, options->start_frame);
   add_device_option(*command, options->device);
   add_farm_options(*command, options->farm);
   command->callback([options] { run_demo(*options); });

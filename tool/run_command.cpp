@@ -1,6 +1,7 @@
 // `tear run MESH SCRIPT -o PATTERN`: a script's cuts applied frame by frame, one mesh file per frame.
 #include <cerrno>
 #include <climits>
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 #include <memory>
@@ -14,6 +15,7 @@
 #include "tear/frame_path.h"
 #include "tear/output_files.h"
 #include "tear/run_cuts.h"
+#include "tear/usd_layer.h"
 
 namespace tear::cli {
 
@@ -27,6 +29,10 @@ struct RunCommandOptions {
   std::string report_path;
   ReadOptions read;
   int frames = 0;
+  int start_frame = 1;
+  std::string up_axis = "Y";
+  double meters_per_unit = 1;
+  bool usd_metadata_given = false;  // --up-axis or --meters-per-unit on the command line
   bool verbose = false;
   FarmOptions farm;
 };
@@ -41,11 +47,21 @@ std::string check_positive_int(const std::string& text) {
   return {};
 }
 
-void print_frame(const FrameResult& frame, int frame_count) {
+/// Accepts a finite number > 0.
+std::string check_finite_positive(const std::string& text) {
+  char* end = nullptr;
+  const double value = std::strtod(text.c_str(), &end);
+  if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(value) || !(value > 0.0))
+    return "expected a finite number > 0, got '" + text + "'";
+  return {};
+}
+
+/// `frame N/LAST: ...`: the frame's number and the last frame's, as the files are numbered.
+void print_frame(const FrameResult& frame, int last_frame) {
   const CutStats& s = frame.stats;
   // Cuts that split nothing (they missed the cloth, or retraced a tear) are said to have done so.
   const bool changed = s.nodes_after != s.nodes_before || s.faces_after != s.faces_before;
-  std::cout << "frame " << frame.frame << '/' << frame_count << ": " << frame.cut_count
+  std::cout << "frame " << frame.output_frame << '/' << last_frame << ": " << frame.cut_count
             << (frame.cut_count == 1 ? " cut" : " cuts") << (frame.cut_count > 0 && !changed ? " (changed nothing), " : ", ")
             << s.nodes_before << " -> " << s.nodes_after << " nodes, "
             << s.faces_before << " -> " << s.faces_after << " faces, " << frame.path << std::endl;
@@ -56,6 +72,11 @@ void run_run(const RunCommandOptions& options) {
   const Device device = select_device(options.device);
   // The pattern's syntax and the format of its extension are usage errors, found before any input is read.
   FramePattern(options.output_pattern).check(1);
+  // Stage metadata exists in USD only: a flag that another format would silently drop is refused.
+  if (options.usd_metadata_given && !is_usd_path(options.output_pattern))
+    throw Error(ErrorKind::usage, "--up-axis and --meters-per-unit apply to USD output only (.usda, .usd), not to '" +
+                                      options.output_pattern + "'");
+  const UpAxis up_axis = parse_up_axis(options.up_axis);
   const Mesh mesh = read_checked_mesh(options.mesh_path, options.read, device);
   const CutScript script = read_cut_script(options.script_path);
 
@@ -64,6 +85,9 @@ void run_run(const RunCommandOptions& options) {
   run.frames = options.frames;
   run.device = device;
   run.report_path = options.report_path;
+  run.start_frame = options.start_frame;
+  run.up_axis = up_axis;
+  run.meters_per_unit = options.meters_per_unit;
   const int frame_count = options.frames == 0 ? script.frames : options.frames;
   if (frame_count > script.frames)
     throw Error(ErrorKind::usage, options.script_path + ": --frames " + std::to_string(frame_count) +
@@ -71,11 +95,12 @@ void run_run(const RunCommandOptions& options) {
   // Every check of the inputs (run_to_files repeats them), then the outputs: none may be an input,
   // and every folder must be writable, before anything is written.
   const FramePattern pattern(options.output_pattern);
-  pattern.check(frame_count);
+  pattern.check(frame_count, options.start_frame);
   check_run_inputs(script, mesh, options.mesh_path, device);
   check_output_files({{"mesh", options.mesh_path}, {"script", options.script_path}}, &pattern, frame_count,
-                     {{"the report", options.report_path}, {"the checkpoint", options.farm.checkpoint_path}});
-  std::vector<std::string> outputs = output_paths(pattern, frame_count, options.report_path);
+                     {{"the report", options.report_path}, {"the checkpoint", options.farm.checkpoint_path}},
+                     options.start_frame);
+  std::vector<std::string> outputs = output_paths(pattern, frame_count, options.report_path, options.start_frame);
   if (!options.farm.checkpoint_path.empty()) outputs.push_back(options.farm.checkpoint_path);
   remove_stale_temporaries(outputs);
   // What changes results besides the mesh, the script and the device, for the checkpoint's digest.
@@ -86,7 +111,7 @@ void run_run(const RunCommandOptions& options) {
   run.on_frame = [&](const FrameResult& frame, const Cloth&) {
     if (options.verbose) {
       progress.finish();
-      print_frame(frame, frame_count);
+      print_frame(frame, options.start_frame + frame_count - 1);
     }
     progress.frame(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
   };
@@ -102,7 +127,8 @@ void add_run_command(CLI::App& app) {
   command->footer(
       "Output pattern: a run of '#' is the frame number zero-padded to that many digits (out/cloth.####.obj writes "
       "out/cloth.0001.obj, ...); {frame} and {frame:04} work too. Without a placeholder the pattern is the file "
-      "name of a single-frame run. The extension picks the format: .obj, .ply, .gltf or .glb. Folders are created. "
+      "name of a single-frame run, or, for .usda/.usd, one USD layer holding every frame as a time sample. The "
+      "extension picks the format: .obj, .ply, .gltf, .glb, or .usda/.usd (USDA text). Folders are created. "
       "Everything is checked before the first file is written: the mesh must be cuttable (see 'tear info'). "
       "Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure, 4 stopped by SIGTERM/SIGINT (resumable).");
   command->add_option("MESH", options->mesh_path, "Mesh file: OBJ, glTF, GLB, PLY or any format assimp reads")
@@ -118,13 +144,32 @@ void add_run_command(CLI::App& app) {
       ->type_name("N")
       ->check(CLI::Validator(check_positive_int, ""));
   command->add_flag("-v,--verbose", options->verbose, "Print one line per frame written: cuts, counts, file");
-  command->add_option("--report", options->report_path,
-                      "Write a JSON report (per-frame counts and timings, totals) to FILE at the end")
+  command
+      ->add_option("--report", options->report_path,
+                   "Write a JSON report (per-frame counts and timings, totals) to FILE at the end")
       ->type_name("FILE");
+  add_start_frame_option(*command, options->start_frame);
+  CLI::Option* up_axis = command
+                             ->add_option("--up-axis", options->up_axis,
+                                          "USD output: the stage's upAxis, Y or Z (the points are "
+                                          "written as they are; this says how to read them)")
+                             ->type_name("Y|Z")
+                             ->check(CLI::IsMember({"Y", "Z", "y", "z"}))
+                             ->capture_default_str();
+  CLI::Option* meters_per_unit =
+      command
+          ->add_option("--meters-per-unit", options->meters_per_unit,
+                       "USD output: the stage's metersPerUnit, the length of one unit of the mesh in metres")
+          ->type_name("M")
+          ->check(CLI::Validator(check_finite_positive, ""))
+          ->capture_default_str();
   add_device_option(*command, options->device);
   add_read_options(*command, options->read);
   add_farm_options(*command, options->farm);
-  command->callback([options] { run_run(*options); });
+  command->callback([options, up_axis, meters_per_unit] {
+    options->usd_metadata_given = up_axis->count() > 0 || meters_per_unit->count() > 0;
+    run_run(*options);
+  });
 }
 
 }  // namespace tear::cli

@@ -27,11 +27,12 @@ class FramePattern {
   /// The path of frame `frame` (>= 0).
   std::string path(int frame) const;
 
-  /// Checks the pattern for a run of `frame_count` frames (1..frame_count) before anything is
-  /// written: a pattern without placeholder is allowed for a single frame only (it is then the
-  /// file name itself), and every frame's extension must name a format `write_mesh` writes
-  /// (`format_from_path`). Throws a usage `Error` naming the pattern otherwise.
-  void check(int frame_count) const;
+  /// Checks the pattern for a run of `frame_count` frames numbered from `first_frame` before
+  /// anything is written: a pattern without placeholder is allowed for a single frame only (it is
+  /// then the file name itself) unless it names a USD layer (`is_usd_path`: one layer holds every
+  /// frame), and every frame's extension must name a format tear writes (`format_from_path`'s, or
+  /// .usda/.usd). Throws a usage `Error` naming the pattern otherwise.
+  void check(int frame_count, int first_frame = 1) const;
 
   const std::string& pattern() const { return pattern_; }
 

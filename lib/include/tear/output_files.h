@@ -28,11 +28,12 @@ struct NamedPath {
 ///    ancestor is a folder that can be written (a runtime error naming the folder, exit 3), and
 ///    an existing output is not a folder.
 ///
-/// `frames` are the files of `pattern` for frames 1..`frame_count` (named "frame N"); pass
+/// `frames` are the files of `pattern` numbered `first_number`.. (`frame_count` of them, named
+/// "frame N" by their number); pass
 /// `frame_count` 0 for a command without frames. Nothing is created: a folder that is missing is
 /// made by the writer later. Empty paths in `outputs` are skipped.
 void check_output_files(const std::vector<NamedPath>& inputs, const FramePattern* pattern, int frame_count,
-                        const std::vector<NamedPath>& outputs);
+                        const std::vector<NamedPath>& outputs, int first_number = 1);
 
 /// Removes the temporary files that `write_file_atomically` of a process that no longer runs left
 /// beside `paths` (a killed run leaves `.cloth.0036.obj.tmp.4242` behind). Only files named

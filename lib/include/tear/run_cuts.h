@@ -10,6 +10,7 @@
 #include "tear/cut_script.h"
 #include "tear/device.h"
 #include "tear/mesh.h"
+#include "tear/usd_layer.h"
 
 namespace tear {
 
@@ -25,10 +26,13 @@ void check_run_inputs(const CutScript& script, const Mesh& mesh, const std::stri
 
 /// What one frame of a run did.
 struct FrameResult {
-  int frame = 0;      ///< 1..frame_count
-  int cut_count = 0;  ///< cuts of the script at this frame (0: the frame repeats the previous mesh)
-  CutStats stats;     ///< of the frame's `Cloth::cut`; counts only (before = after) when it had no cut
-  std::string path;   ///< the file written, by `run_to_files`; empty in `run_cuts`
+  int frame = 0;  ///< 1..frame_count: the script's frame (its `frame` keys count from 1)
+  /// The frame's number in outputs (file names, USD time codes, the report, `-v` lines):
+  /// `RunOptions::start_frame + frame - 1` in `run_to_files`, `frame` in `run_cuts`.
+  int output_frame = 0;
+  int cut_count = 0;         ///< cuts of the script at this frame (0: the frame repeats the previous mesh)
+  CutStats stats;            ///< of the frame's `Cloth::cut`; counts only (before = after) when it had no cut
+  std::string path;          ///< the file written, by `run_to_files`; empty in `run_cuts`
   bool simulated = false;    ///< the script has a `simulation` block: the frame was stepped after its cuts
   double remesh_ms = 0;      ///< wall time of the frame's cuts (0 without cuts)
   double simulation_ms = 0;  ///< wall time of the frame's step, solver rebuild (after a cut) included
@@ -64,8 +68,17 @@ double min_face_angle_deg(const std::vector<index_t>& face_nodes, const std::vec
 
 /// Options of `run_to_files`; mirrored by `tear run`'s flags.
 struct RunOptions {
-  std::string output_pattern;  ///< `FramePattern` syntax, e.g. "out/cloth.####.obj"
-  int frames = 0;              ///< frames to run, 1..script.frames; 0: all of the script's
+  /// `FramePattern` syntax, e.g. "out/cloth.####.obj"; a .usda/.usd path without frame number is
+  /// one USD layer for the whole run (`UsdLayer`).
+  std::string output_pattern;
+  int frames = 0;  ///< frames to run, 1..script.frames; 0: all of the script's
+  /// The number of the first frame in outputs (file names, USD time codes, the report,
+  /// `FrameResult::output_frame`), >= 0; the script's frame 1 is written as this frame.
+  int start_frame = 1;
+  /// USD stage metadata (`upAxis`, `metersPerUnit`); other formats have none and ignore these.
+  /// `timeCodesPerSecond` is the script's `simulation.fps` (24 without a simulation block).
+  UpAxis up_axis = UpAxis::y;
+  double meters_per_unit = 1;  ///< finite, > 0
   Device device = Device::cpu;
   /// Called after each frame is written (may be empty).
   FrameCallback on_frame;
@@ -94,11 +107,14 @@ struct RunSummary {
   double wall_ms = 0;
 };
 
-/// A whole run: checks everything first (pattern and output format, script against mesh,
-/// cuttability, frame count; usage and input `Error`s), and only then creates the output folders
-/// and writes one file per frame (`write_mesh`, atomic) from `cloth.mesh()`: positions, faces and
-/// the corner UVs and normals the mesh came with, carried through the cuts. A folder that cannot
-/// be created is a runtime `Error` naming it. The same inputs give byte-identical files.
+/// A whole run: checks everything first (pattern and output format, start frame and USD metadata,
+/// script against mesh, cuttability, frame count; usage and input `Error`s), and only then creates
+/// the output folders and writes every frame from `cloth.mesh()` to the sink the pattern names:
+/// one file per frame (`FrameFiles`: `write_mesh`, atomic), or one USD layer for the run
+/// (`UsdLayer`, a .usda/.usd pattern without frame number): positions, faces and the corner UVs
+/// and normals the mesh came with, carried through the cuts. A folder that cannot be created, or
+/// a file that cannot be written, is a runtime `Error` naming it. The same inputs give
+/// byte-identical files.
 ///
 /// With a `simulation` block the block and its `nodes` pins are checked with the rest, the cloth
 /// moves (`run_cuts`), and a mesh that came with normals is written with

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "tear/error.h"
+#include "tear/usd_layer.h"
 #include "tear/write_mesh.h"
 
 namespace tear {
@@ -73,25 +74,30 @@ std::string FramePattern::path(int frame) const {
   return expand(pattern_, frame, &found);
 }
 
-void FramePattern::check(int frame_count) const {
-  if (!has_frame_number_ && frame_count > 1)
+void FramePattern::check(int frame_count, int first_frame) const {
+  // One USD layer holds every frame; any other file holds one.
+  if (!has_frame_number_ && frame_count > 1 && !is_usd_path(pattern_))
     throw pattern_error(pattern_, "no frame number, and the run has " + std::to_string(frame_count) +
-                                      " frames (put #### or {frame:04} where the number goes)");
+                                      " frames (put #### or {frame:04} where the number goes, or write one USD "
+                                      "layer: .usda)");
   // Placeholders may sit in the extension too ("x.{frame}"), so every frame's path is checked.
-  for (int frame = 1; frame <= frame_count; ++frame) {
+  for (int frame = first_frame; frame - first_frame < frame_count; ++frame) {
     const std::string frame_path = path(frame);
     const std::size_t slash = frame_path.find_last_of('/');
     const std::string name = slash == std::string::npos ? frame_path : frame_path.substr(slash + 1);
     if (name.empty() || name == "." || name == "..")
       throw pattern_error(pattern_, "no file name (expected a path such as out/cloth.####.obj)");
-    try {
-      format_from_path(frame_path);
-    } catch (const Error& e) {
-      // The pattern is what the user typed; name it rather than one of its expansions.
-      const std::string what = e.what();
-      throw pattern_error(pattern_, what.compare(0, frame_path.size() + 2, frame_path + ": ") == 0
-                                        ? what.substr(frame_path.size() + 2)
-                                        : what);
+    if (!is_usd_path(frame_path)) {
+      try {
+        format_from_path(frame_path);
+      } catch (const Error&) {
+        // The pattern is what the user typed: name it rather than one of its expansions.
+        const std::size_t dot = name.find_last_of('.');
+        throw pattern_error(pattern_, "unknown output format" +
+                                          (dot == std::string::npos ? std::string(" (no extension)")
+                                                                    : " '" + name.substr(dot) + "'") +
+                                          "; supported: .obj, .ply, .gltf, .glb, .usda, .usd");
+      }
     }
     if (!has_frame_number_) break;
   }

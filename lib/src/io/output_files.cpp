@@ -116,10 +116,11 @@ class OutputChecker {
 }  // namespace
 
 void check_output_files(const std::vector<NamedPath>& inputs, const FramePattern* pattern, int frame_count,
-                        const std::vector<NamedPath>& outputs) {
+                        const std::vector<NamedPath>& outputs, int first_number) {
   OutputChecker checker(inputs);
   const int frames = pattern == nullptr ? 0 : pattern->has_frame_number() ? frame_count : std::min(frame_count, 1);
-  for (int frame = 1; frame <= frames; ++frame) checker.check("frame " + std::to_string(frame), pattern->path(frame));
+  for (int frame = first_number; frame < first_number + frames; ++frame)
+    checker.check("frame " + std::to_string(frame), pattern->path(frame));
 
   std::error_code error;
   const fs::path cwd = fs::current_path(error);
@@ -135,7 +136,7 @@ void check_output_files(const std::vector<NamedPath>& inputs, const FramePattern
         throw Error(ErrorKind::usage, output.path + ": " + output.what + " is also " + named[j]->what);
     // The frames: compared by file name first, so that a long run costs a string comparison a frame.
     const std::string name = file_name_of(output.path);
-    for (int frame = 1; frame <= frames; ++frame) {
+    for (int frame = first_number; frame < first_number + frames; ++frame) {
       const std::string frame_path = pattern->path(frame);
       if (file_name_of(frame_path) == name && normal_path(cwd, frame_path) == normal)
         throw Error(ErrorKind::usage, output.path + ": " + output.what + " is also frame " + std::to_string(frame));

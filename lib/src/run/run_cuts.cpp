@@ -2,12 +2,14 @@
 
 #include <algorithm>
 #include <array>
+#include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <system_error>
 #include <limits>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -18,6 +20,7 @@
 #include "tear/frame_path.h"
 #include "tear/frame_sink.h"
 #include "tear/simulation.h"
+#include "tear/usd_layer.h"
 #include "tear/validate_mesh.h"
 #include "tear/write_mesh.h"
 
@@ -63,14 +66,36 @@ RunInputs run_inputs(const Mesh& mesh, const CutScript& script, const RunOptions
   std::error_code error;
   inputs.script_digest = std::filesystem::is_regular_file(script.path, error) ? digest_file(script.path)
                                                                               : digest_bytes(script.path);
+  // The output pattern and first frame number too: a resumed run must go on writing the same files.
   inputs.options = "tear " TEAR_VERSION ";device=" + std::string(to_string(options.device)) +
+                   ";output=" + options.output_pattern + ";start-frame=" + std::to_string(options.start_frame) +
                    (options.result_options.empty() ? "" : ";" + options.result_options);
   return inputs;
 }
 
+/// Refuses a first frame number below 0, or one whose run would number past the largest int.
+void check_start_frame(int start_frame, int frame_count) {
+  if (start_frame < 0 || start_frame > std::numeric_limits<int>::max() - (frame_count - 1))
+    throw Error(ErrorKind::usage, "--start-frame: expected an integer from 0 to " +
+                                      std::to_string(std::numeric_limits<int>::max() - (frame_count - 1)) +
+                                      " for a run of " + std::to_string(frame_count) + " frames, got " +
+                                      std::to_string(start_frame));
+}
+
+/// The sink the pattern names: a USD layer (one for the run, or one per frame), else a file per frame.
+std::unique_ptr<FrameSink> make_sink(const FramePattern& pattern, const CutScript& script, const RunOptions& options) {
+  if (!is_usd_path(pattern.pattern())) return std::make_unique<FrameFiles>(pattern);
+  UsdLayerOptions usd;
+  // One time code per frame: the simulation's frame rate, or film's.
+  usd.frames_per_second = script.simulation ? script.simulation->fps : 24.0;
+  usd.up_axis = options.up_axis;
+  usd.meters_per_unit = options.meters_per_unit;
+  return std::make_unique<UsdLayer>(pattern, usd);
+}
+
 nlohmann::json frame_report(const FrameResult& frame, const Cloth& cloth) {
-  return {{"frame", frame.frame},    {"nodes", cloth.node_count()},  {"faces", cloth.face_count()},
-          {"cuts", frame.cut_count}, {"remesh_ms", frame.remesh_ms}, {"simulation_ms", frame.simulation_ms},
+  return {{"frame", frame.output_frame}, {"nodes", cloth.node_count()},  {"faces", cloth.face_count()},
+          {"cuts", frame.cut_count},     {"remesh_ms", frame.remesh_ms}, {"simulation_ms", frame.simulation_ms},
           {"min_angle_deg", nullptr}};
 }
 
@@ -140,6 +165,7 @@ void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const Fram
     const std::vector<const Cut*> cuts = script.cuts_of_frame(frame);
     FrameResult result;
     result.frame = frame;
+    result.output_frame = frame;
     result.cut_count = static_cast<int>(cuts.size());
     if (cuts.empty()) {
       result.stats.nodes_before = result.stats.nodes_after = cloth.node_count();
@@ -174,15 +200,26 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
   const FramePattern pattern(options.output_pattern);
   const int frame_count = options.frames == 0 ? script.frames : options.frames;
   check_frame_count(script, frame_count);
-  pattern.check(frame_count);
+  check_start_frame(options.start_frame, frame_count);
+  pattern.check(frame_count, options.start_frame);
+  if (!(options.meters_per_unit > 0) || !std::isfinite(options.meters_per_unit)) {
+    char text[32];
+    const std::to_chars_result end = std::to_chars(text, text + sizeof text, options.meters_per_unit);
+    throw Error(ErrorKind::usage, "--meters-per-unit: expected a finite number > 0, got " + std::string(text, end.ptr));
+  }
   check_run_inputs(script, mesh, mesh_path, options.device);
 
   nlohmann::json frames = nlohmann::json::array();
   double remesh_ms = 0, simulation_ms = 0;
   RunSummary summary;
-  FrameFiles sink(pattern);
+  const std::unique_ptr<FrameSink> sink = make_sink(pattern, script, options);
   Cloth cloth(mesh, options.device);
   const bool checkpoints = !options.checkpoint_path.empty();
+  // A layer holding every frame is assembled at the end from this process's frames alone.
+  if (checkpoints && is_usd_path(pattern.pattern()) && !pattern.has_frame_number())
+    throw Error(ErrorKind::usage, options.output_pattern +
+                                      ": a single USD layer cannot be checkpointed and resumed; write one layer per "
+                                      "frame (a pattern with a frame number, e.g. shot.####.usda) or PLY frames");
   const RunInputs inputs = checkpoints ? run_inputs(mesh, script, options) : RunInputs{};
   int first_frame = 1;
   if (checkpoints && options.resume && std::filesystem::exists(options.checkpoint_path)) {
@@ -195,12 +232,13 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
   }
   run_cuts(cloth, script, frame_count, [&](const FrameResult& frame, const Cloth& cut_cloth) {
     FrameResult written = frame;
-    written.path = sink.path_of(frame.frame);
+    written.output_frame = options.start_frame + frame.frame - 1;
+    written.path = sink->path_of(written.output_frame);
     Mesh out = cut_cloth.mesh();
     if (frame.simulated && out.has_normals()) out.corner_normal = area_weighted_corner_normals(out);
-    sink.write(frame.frame, out);
+    sink->write(written.output_frame, out);
     if (!options.report_path.empty()) {
-      nlohmann::json entry = frame_report(frame, cut_cloth);
+      nlohmann::json entry = frame_report(written, cut_cloth);
       // The remesher's quality is a property of the rest shape; without simulation it is also the
       // written shape.
       const double min_angle = min_face_angle_deg(out.face_nodes, cut_cloth.node_rest());
@@ -220,7 +258,7 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
                   "stopped after frame " + std::to_string(frame.frame) + " of " + std::to_string(frame_count) +
                       (checkpoints ? "; '--resume' goes on from " + options.checkpoint_path : std::string()));
   }, first_frame);
-  sink.finish();
+  sink->finish();
   summary.wall_ms = ms_since(start);
 
   if (!options.report_path.empty()) {
