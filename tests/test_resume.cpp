@@ -173,3 +173,17 @@ TEST_CASE("resume: --progress lines prints one parsable line per frame", "[resum
   REQUIRE(run.exit_code == 0);
   CHECK(run.err == "frame 1/4 (25%)\nframe 2/4 (50%)\nframe 3/4 (75%)\nframe 4/4 (100%)\n");
 }
+
+TEST_CASE("resume: a single USD layer cannot be checkpointed; one layer per frame can", "[resume]") {
+  TempDir dir;
+  tear::write_mesh(tear::test::regular_sheet(), (dir / "sheet.obj").string());
+  const fs::path script = dir.file("shot.json", R"({"version": 1, "frames": 2, "cuts": []})");
+  const std::string base = "run " + tear::test::quoted(dir / "sheet.obj") + " " + tear::test::quoted(script) +
+                           " --device cpu --checkpoint " + tear::test::quoted(dir / "ck") + " -o ";
+  const tear::test::Run single = dir.tear(base + tear::test::quoted(dir / "shot.usda"));
+  CHECK(single.exit_code == 1);
+  CHECK(single.err.find("single USD layer") != std::string::npos);
+  CHECK(!fs::exists(dir / "shot.usda"));
+  CHECK(dir.tear(base + tear::test::quoted(dir / "shot.####.usda")).exit_code == 0);
+  CHECK(fs::exists(dir / "shot.0002.usda"));
+}
