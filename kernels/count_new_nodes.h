@@ -5,14 +5,16 @@
 
 namespace tear::kernels {
 
-/// Every node survives with at least one copy; a node on cut lines gets one per sector.
+/// A node on cut lines gets one copy per sector. The first copy keeps the node's index (identity:
+/// the index is the node's persistent id), so what is counted, scanned and appended are the extra
+/// copies: sectors - 1 (0 for a node no cut line splits).
 struct count_node_copies {
   SectorMesh mesh;
-  index_t* node_new_count;
+  index_t* node_extra_count;
   TEAR_HD void operator()(index_t n) const {
     count_sectors c;
     const bool closed = walk_node(mesh, n, c);
-    node_new_count[n] = c.sectors(closed);
+    node_extra_count[n] = c.sectors(closed) - 1;
   }
 };
 

@@ -114,16 +114,21 @@ struct count_sectors {
 };
 
 /// Hands out the point's copies along the walk: copy (cuts crossed so far) mod sectors, so the
-/// corners before the first cut of a closed walk share the last sector's copy.
+/// corners before the first cut of a closed walk share the last sector's copy. Copy 0, the sector
+/// holding the walk's first face, is `first_copy`; copies 1.. are `extra_first` onwards. For a
+/// node, copy 0 keeps the node's own index: the sector of its lowest-numbered face, or, on the
+/// border, of its lowest-numbered face whose incoming side (counter-clockwise) is a border edge.
 struct assign_copies {
   const index_t* face_tri_offset;
   index_t* new_face_nodes;
   index_t first_copy;
+  index_t extra_first;
   index_t sectors;
   index_t cuts = 0;
   TEAR_HD void corner(index_t f, std::uint8_t entry) {
     const index_t tri = face_tri_offset[f] + fan_entry_tri(entry);
-    new_face_nodes[3 * tri + fan_entry_corner(entry)] = first_copy + cuts % sectors;
+    const index_t copy = cuts % sectors;
+    new_face_nodes[3 * tri + fan_entry_corner(entry)] = copy == 0 ? first_copy : extra_first + copy - 1;
   }
   TEAR_HD void cut() { ++cuts; }
 };

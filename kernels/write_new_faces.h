@@ -4,6 +4,7 @@
 
 #include <cmath>
 
+#include "carry_attributes.h"
 #include "cut_info.h"
 #include "split_table.h"
 
@@ -29,6 +30,7 @@ TEAR_HD inline void point_code_bary(std::uint8_t code, const index_t* face_nodes
   }
 }
 
+/// Each face writes its new triangles' parents and carries the corner attributes into them.
 struct write_new_faces {
   const index_t* face_nodes;
   const index_t* face_edges;
@@ -37,11 +39,8 @@ struct write_new_faces {
   const float* edge_point_t;
   const float* face_point_bary;
   const index_t* face_tri_offset;
-  const float* corner_uv;      ///< [old_face_count * 6] or null
-  const float* corner_normal;  ///< [old_face_count * 9] or null
+  CornerAttributes corners;
   index_t* new_face_parent;
-  float* new_corner_uv;
-  float* new_corner_normal;
   TEAR_HD void operator()(index_t f) const {
     const SplitCase& c = split_case(table, face_state[f]);
     for (int t = 0; t < c.tri_count; ++t) {
@@ -50,20 +49,7 @@ struct write_new_faces {
       for (int k = 0; k < 3; ++k) {
         double b[3];
         point_code_bary(c.tri[t][k], face_nodes, face_edges, edge_point_t, face_point_bary, f, b);
-        const index_t nc = 3 * nf + k;
-        if (corner_uv)
-          for (int d = 0; d < 2; ++d)
-            new_corner_uv[2 * nc + d] = static_cast<float>(b[0] * corner_uv[6 * f + d] + b[1] * corner_uv[6 * f + 2 + d] +
-                                                           b[2] * corner_uv[6 * f + 4 + d]);
-        if (corner_normal) {
-          double v[3], len2 = 0;
-          for (int d = 0; d < 3; ++d) {
-            v[d] = b[0] * corner_normal[9 * f + d] + b[1] * corner_normal[9 * f + 3 + d] + b[2] * corner_normal[9 * f + 6 + d];
-            len2 += v[d] * v[d];
-          }
-          const double inv = len2 > 0 ? 1.0 / sqrt(len2) : 0.0;
-          for (int d = 0; d < 3; ++d) new_corner_normal[3 * nc + d] = static_cast<float>(v[d] * inv);
-        }
+        for (int a = 0; a < corners.count; ++a) interpolate_corner(corners.at[a], f, 3 * nf + k, b);
       }
     }
   }

@@ -6,7 +6,7 @@
 # libthrust-dev.
 set -euo pipefail
 # assimp-testmodels: meshes written by other tools, read by the test suite.
-packages=(cmake ninja-build g++ pkg-config libassimp-dev libeigen3-dev libcli11-dev nlohmann-json3-dev catch2 libthrust-dev
+packages=(cmake ninja-build g++ pkg-config libassimp-dev libtinyobjloader-dev libtinygltf-dev libeigen3-dev libcli11-dev nlohmann-json3-dev catch2 libthrust-dev
   assimp-testmodels)
 missing=()
 for p in "${packages[@]}"; do

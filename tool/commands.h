@@ -37,7 +37,8 @@ void add_validate_command(CLI::App& app);
 /// usage error whatever the input.
 CLI::Option* add_device_option(CLI::App& command, std::string& spec);
 
-/// Adds `--mesh-name NAME` and `--weld-tolerance T` (finite, >= 0) to `command`, stored in `options`.
+/// Adds `--mesh-name NAME`, `--weld-tolerance T` (finite, >= 0) and `--no-weld` to `command`, stored
+/// in `options`.
 void add_read_options(CLI::App& command, ReadOptions& options);
 
 /// Reads the mesh at `path` and checks its indices and coordinates on `device`: a face index out of

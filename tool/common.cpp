@@ -49,6 +49,11 @@ void add_read_options(CLI::App& command, ReadOptions& options) {
       ->type_name("T")
       ->check(CLI::Validator(check_finite_non_negative, ""))
       ->capture_default_str();
+  command.add_flag_callback(
+      "--no-weld", [&options] { options.weld = false; },
+      "Weld nothing: every vertex of the file that a face uses is a node of its own, so a frame written as "
+      "OBJ reads back with its tears open (docs/io.md). By default vertices are welded by id in tear's own "
+      "PLY and glTF files, by position in others");
 }
 
 Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Device device) {

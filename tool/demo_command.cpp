@@ -7,6 +7,7 @@
 #include <string>
 
 #include "commands.h"
+#include "farm.h"
 #include "progress.h"
 #include "tear/demo_scene.h"
 #include "tear/error.h"
@@ -24,6 +25,7 @@ struct DemoCommandOptions {
   std::string device = "auto";
   std::string report_path;
   int frames = demo_frames;
+  FarmOptions farm;
 };
 
 void run_demo(const DemoCommandOptions& options) {
@@ -40,11 +42,15 @@ void run_demo(const DemoCommandOptions& options) {
   const std::string mesh_name = "(demo sheet, " + std::string(to_string(resolution)) + " resolution)";
   const FramePattern pattern(run.output_pattern);
   pattern.check(options.frames);
-  check_output_files({}, &pattern, options.frames, {{"the report", options.report_path}});
-  remove_stale_temporaries(output_paths(pattern, options.frames, options.report_path));
-  ProgressBar progress(options.frames);
+  check_output_files({}, &pattern, options.frames,
+                     {{"the report", options.report_path}, {"the checkpoint", options.farm.checkpoint_path}});
+  std::vector<std::string> outputs = output_paths(pattern, options.frames, options.report_path);
+  if (!options.farm.checkpoint_path.empty()) outputs.push_back(options.farm.checkpoint_path);
+  remove_stale_temporaries(outputs);
+  apply_farm_options(options.farm, run);
+  FrameProgress progress(options.farm.progress, options.frames);
   run.on_frame = [&](const FrameResult& frame, const Cloth&) {
-    progress.update(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
+    progress.frame(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
   };
   const RunSummary summary = run_to_files(sheet, mesh_name, script, run);
   progress.finish();
@@ -79,6 +85,7 @@ void add_demo_command(CLI::App& app) {
   // Hidden: runs only the first N frames, for quick checks and tests.
   command->add_option("--frames", options->frames)->check(CLI::Range(1, demo_frames))->group("");
   add_device_option(*command, options->device);
+  add_farm_options(*command, options->farm);
   command->callback([options] { run_demo(*options); });
 }
 

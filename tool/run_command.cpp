@@ -7,6 +7,7 @@
 #include <string>
 
 #include "commands.h"
+#include "farm.h"
 #include "progress.h"
 #include "tear/cut_script.h"
 #include "tear/error.h"
@@ -27,6 +28,7 @@ struct RunCommandOptions {
   ReadOptions read;
   int frames = 0;
   bool verbose = false;
+  FarmOptions farm;
 };
 
 /// CLI11's PositiveNumber message quotes the largest double; say what is expected instead.
@@ -72,17 +74,24 @@ void run_run(const RunCommandOptions& options) {
   pattern.check(frame_count);
   check_run_inputs(script, mesh, options.mesh_path, device);
   check_output_files({{"mesh", options.mesh_path}, {"script", options.script_path}}, &pattern, frame_count,
-                     {{"the report", options.report_path}});
-  remove_stale_temporaries(output_paths(pattern, frame_count, options.report_path));
-  ProgressBar progress(frame_count);
+                     {{"the report", options.report_path}, {"the checkpoint", options.farm.checkpoint_path}});
+  std::vector<std::string> outputs = output_paths(pattern, frame_count, options.report_path);
+  if (!options.farm.checkpoint_path.empty()) outputs.push_back(options.farm.checkpoint_path);
+  remove_stale_temporaries(outputs);
+  // What changes results besides the mesh, the script and the device, for the checkpoint's digest.
+  run.result_options = "mesh-name=" + options.read.mesh_name + ";weld-tolerance=" + std::to_string(options.read.weld_tolerance) +
+                       ";weld=" + (options.read.weld ? "1" : "0");
+  apply_farm_options(options.farm, run);
+  FrameProgress progress(options.farm.progress, frame_count);
   run.on_frame = [&](const FrameResult& frame, const Cloth&) {
     if (options.verbose) {
       progress.finish();
       print_frame(frame, frame_count);
     }
-    progress.update(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
+    progress.frame(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
   };
   run_to_files(mesh, options.mesh_path, script, run);
+  progress.finish();
 }
 
 }  // namespace
@@ -95,7 +104,7 @@ void add_run_command(CLI::App& app) {
       "out/cloth.0001.obj, ...); {frame} and {frame:04} work too. Without a placeholder the pattern is the file "
       "name of a single-frame run. The extension picks the format: .obj, .ply, .gltf or .glb. Folders are created. "
       "Everything is checked before the first file is written: the mesh must be cuttable (see 'tear info'). "
-      "Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure.");
+      "Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure, 4 stopped by SIGTERM/SIGINT (resumable).");
   command->add_option("MESH", options->mesh_path, "Mesh file: OBJ, glTF, GLB, PLY or any format assimp reads")
       ->required()
       ->type_name("");
@@ -114,6 +123,7 @@ void add_run_command(CLI::App& app) {
       ->type_name("FILE");
   add_device_option(*command, options->device);
   add_read_options(*command, options->read);
+  add_farm_options(*command, options->farm);
   command->callback([options] { run_run(*options); });
 }
 

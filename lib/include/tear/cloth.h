@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "tear/cut_script.h"
@@ -43,6 +44,11 @@ struct CutOptions {
   /// Measure the time of every stage (`CutStats::stage_ms`); adds a device synchronisation after
   /// each stage, so leave it off outside benchmarks.
   bool time_stages = false;
+  /// Check that every writer of the cut writes exactly the slots its scan gave it (the node
+  /// provenance, the new faces, the node mapping): each output is filled with a value no writer
+  /// writes beforehand and searched for it afterwards; a slot left over throws a runtime `Error`
+  /// naming the stage. For tests: it costs a fill and a count per stage.
+  bool check_writes = false;
 };
 
 /// The stages of a cut, in order (paper §2.1–2.4), for `CutStats::stage_ms`.
@@ -69,11 +75,21 @@ struct CutProvenance {
   std::vector<index_t> face_parent;        ///< [face_count] old face each new face lies in
 };
 
-/// A cloth mesh and its state (positions, rest positions, velocities) held on a backend.
+struct SimulationOptions;
+
+/// A cloth mesh held on a backend with its state and identity (docs/identity.md): the remesher cuts
+/// it in place and the solver steps it in place.
+///
+/// Identity: node i of the mesh given keeps index i through every cut; a cut appends the nodes it
+/// makes (a split node keeps its index for the copy on the side of its lowest-numbered face, see
+/// `kernels/walk_sectors.h`), so a node's index is its persistent id. Every node carries its
+/// velocity and its origin: the face of the mesh given and the barycentric weights, in the rest
+/// shape, of where it lies (`Mesh::node_origin_face`, `node_origin_bary`).
 class Cloth {
  public:
-  /// Uploads `mesh` (rest shape = current positions, velocities 0). The mesh must pass
-  /// `validate_mesh` (the remesher needs an oriented manifold); callers check first.
+  /// Uploads `mesh`: rest shape = current positions, velocities `mesh.node_vel` (0 when empty),
+  /// each face its own origin. The mesh must pass `validate_mesh` (the remesher needs an oriented
+  /// manifold); callers check first.
   Cloth(const Mesh& mesh, Device device);
   ~Cloth();
   Cloth(Cloth&&) noexcept;
@@ -87,22 +103,43 @@ class Cloth {
   /// cloth, or retrace an existing tear, change nothing.
   CutStats cut(const std::vector<CutLine>& cuts, const CutOptions& options = {});
 
-  /// The current mesh: positions, faces, per-corner UVs and normals.
+  /// Simulates the cloth from now on with projective dynamics (docs/simulation.md). Pins: `nodes`
+  /// pins name nodes of the cloth as it is now (an input `Error` naming `options.source` when one
+  /// is out of range); from then on the copies of a pinned node stay pinned through cuts and a node
+  /// a cut makes is free, except that `box` pins also hold every node a cut makes inside a box.
+  void simulate(const SimulationOptions& options);
+  bool simulated() const;
+  /// Advances the state one frame (1 / fps seconds) in place on the backend, the solver's model
+  /// rebuilt there after a cut changed the mesh. Queues the work without waiting for it. A usage
+  /// `Error` without `simulate`.
+  void step();
+  /// False when a position or velocity is NaN or infinite (waits for the backend).
+  bool state_is_finite() const;
+
+  /// The current mesh: positions, faces, per-corner UVs and normals, and the identity arrays
+  /// (velocities, origins, the border edges made by cuts).
   Mesh mesh() const;
   Topology topology() const;
   std::vector<float> node_pos() const;   ///< [node_count * 3] metres
   std::vector<float> node_rest() const;  ///< [node_count * 3] metres
   std::vector<float> node_vel() const;   ///< [node_count * 3] m/s
+  std::vector<std::uint8_t> node_pinned() const;  ///< [node_count] 1 = held by a pin
   /// Replaces the positions and velocities, both [node_count * 3] (a usage `Error` otherwise), from
-  /// the host; rest positions stay. A simulation step hands its result back to the cloth this way.
+  /// the host; rest positions stay.
   void set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel);
-  /// Provenance of the last cut (empty before the first).
+  /// Everything the cloth holds that a later run needs to go on bit-exactly (model, state, carried
+  /// attributes), as bytes: `load_state` on a cloth made from the same mesh and simulated with the
+  /// same options gives back the same cloth, on the same backend the same frames after it.
+  std::string save_state() const;
+  /// Replaces the cloth with a state `save_state` made; the simulation options (`simulate`) stay.
+  /// Throws an input `Error` naming `source` when the bytes are not a consistent cloth.
+  void load_state(const std::string& state, const std::string& source);
+  /// Provenance of the last cut that split something (empty before the first).
   CutProvenance provenance() const;
 
   class Engine;  ///< the per-backend implementation
 
  private:
-  friend class PdSolver;  // steps the cloth's state where it lives (PdSolver::step(Cloth&))
   std::unique_ptr<Engine> engine_;
 };
 

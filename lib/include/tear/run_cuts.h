@@ -1,6 +1,7 @@
 // tear: the frame loop of a run: a script's cuts applied frame by frame, each frame written out.
 #pragma once
 
+#include <csignal>
 #include <functional>
 #include <string>
 #include <vector>
@@ -40,15 +41,16 @@ using FrameCallback = std::function<void(const FrameResult&, const Cloth&)>;
 /// (`Cloth::cut` with `script.snap`), then calls `on_frame`. Frames without cuts leave the cloth
 /// as it is and still call `on_frame`. `frame_count` must be in 1..script.frames (usage `Error`).
 ///
-/// When the script has a `simulation` block (its node pins are resolved before the first frame, so
-/// their errors come before any callback), every frame then advances the cloth by one frame (1/fps s)
-/// with a `PdSolver`, rebuilt from the cloth's faces and rest positions on the first frame and
-/// whenever the frame's cuts changed the node or face count. Box pins are resolved again on the new
-/// rest positions; `nodes` pins name nodes of `cloth` as given and are carried through the cuts by
-/// `Cloth::provenance`: a new node whose only source (weight 1) was pinned stays pinned, so both
-/// copies of a pinned node that a cut separates stay pinned, and a node made on a cut edge or inside
-/// a face is free. The state goes to the host and back every frame (`Cloth::set_node_state`).
-void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame);
+/// When the script has a `simulation` block (read by `parse_simulation` before the first frame, so
+/// its errors come before any callback), the cloth simulates it (`Cloth::simulate`: `nodes` pins
+/// name nodes of `cloth` as given and are carried through the cuts) and every frame then advances
+/// the cloth by one frame (1/fps s, `Cloth::step`) on its backend. A state that is no longer finite
+/// stops the run with a runtime `Error` naming the script and the frame, before `on_frame`.
+///
+/// `first_frame` > 1 goes on from a cloth that already went through frames 1..first_frame-1 (a
+/// resumed run: `Cloth::load_state`); a cloth already simulated keeps its simulation.
+void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame,
+              int first_frame = 1);
 
 /// Per-corner normals [face_count * 9] of `mesh` at its current positions: at each corner, the
 /// area-weighted average of the normals of the faces around the corner's node, normalised. A torn
@@ -70,6 +72,19 @@ struct RunOptions {
   /// When not empty, a JSON report of the run (docs/cli.md, `--report`) is written there
   /// atomically once the last frame is written.
   std::string report_path;
+  /// When not empty, a checkpoint (tear/checkpoint.h) is written there atomically after every
+  /// `checkpoint_every`-th frame, after the last one, and when the run is stopped.
+  std::string checkpoint_path;
+  int checkpoint_every = 1;
+  /// With `checkpoint_path`: when the checkpoint exists, go on after its frame (an input `Error`
+  /// when it was made from other inputs, or is damaged); when it does not, start from frame 1.
+  bool resume = false;
+  /// The options that change results besides the mesh, the script and the device, spelled out
+  /// ("name=value;..."), so that a checkpoint made with others is refused.
+  std::string result_options;
+  /// Checked after each frame is written: once it is set (by a signal handler), the run writes its
+  /// checkpoint and stops with an `Error` of kind `interrupted`.
+  const volatile std::sig_atomic_t* stop = nullptr;
 };
 
 /// What `run_to_files` did, for a summary line.

@@ -13,7 +13,6 @@
 
 namespace tear {
 
-class Cloth;
 
 /// The pinned-node mask [node_count] (1 = pinned) of `options.pins` on a mesh with rest positions
 /// `node_rest` [node_count * 3]. A listed node outside [0, node_count) is an input error naming
@@ -21,10 +20,10 @@ class Cloth;
 std::vector<std::uint8_t> resolve_pins(const SimulationOptions& options, const std::vector<float>& node_rest,
                                        index_t node_count);
 
-/// The solver of one mesh: its model (masses, constraints, the Jacobi diagonal, pins) is built on
-/// the device from the mesh and stays fixed; after a cut, build a new solver from the new mesh and
-/// hand the remapped state over. The state (positions and velocities) lives on the device between
-/// steps.
+/// The solver of one mesh given as host arrays: its model (masses, constraints, the Jacobi
+/// diagonal, pins) is built on the device from the mesh and stays fixed; the state (positions and
+/// velocities) lives on the device between steps. A `Cloth` simulates itself with the same solver
+/// (`Cloth::simulate`, `Cloth::step`), its model rebuilt on the device after each cut.
 ///
 /// Constraints: an edge spring per edge (stretch) and a hinge per interior edge (bending, the
 /// dihedral-neighbour Laplacian of the two faces). Each Jacobi node update gathers its own
@@ -40,11 +39,6 @@ class PdSolver {
   /// carried through cuts; `options.pins` is ignored.
   PdSolver(const std::vector<index_t>& face_nodes, const std::vector<float>& node_rest, index_t node_count,
            const SimulationOptions& options, Device device, const std::vector<std::uint8_t>& node_pinned);
-  /// The solver of `cloth`'s current mesh on the cloth's backend, built from the arrays and the
-  /// topology the cloth holds there (no host round trip but the pins). `node_pinned` [node_count]
-  /// (1 = pinned), as `resolve_pins` gives; `options.pins` is ignored. The state starts at rest;
-  /// `step(cloth)` steps the cloth's own state.
-  PdSolver(const Cloth& cloth, const SimulationOptions& options, const std::vector<std::uint8_t>& node_pinned);
   ~PdSolver();
   PdSolver(PdSolver&&) noexcept;
   PdSolver& operator=(PdSolver&&) noexcept;
@@ -64,11 +58,6 @@ class PdSolver {
   void step();
   /// Uploads `node_pos` and `node_vel` [node_count * 3], steps one frame and downloads them.
   void step(std::vector<float>& node_pos, std::vector<float>& node_vel);
-  /// Steps the state of `cloth` one frame where it lives: copied from the cloth into the solver and
-  /// back within the backend's memory, with no host round trip and no wait. The cloth must be on the
-  /// solver's backend and have its node count (the mesh the solver was built from); the solver's own
-  /// state is overwritten.
-  void step(Cloth& cloth);
 
   /// Replaces the state; both [node_count * 3]. Pinned nodes are held where `node_pos` puts them.
   void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel);

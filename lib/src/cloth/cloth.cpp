@@ -98,6 +98,13 @@ std::vector<float> Cloth::node_pos() const { return engine_->node_pos(); }
 std::vector<float> Cloth::node_rest() const { return engine_->node_rest(); }
 std::vector<float> Cloth::node_vel() const { return engine_->node_vel(); }
 CutProvenance Cloth::provenance() const { return engine_->provenance(); }
+std::vector<std::uint8_t> Cloth::node_pinned() const { return engine_->node_pinned(); }
+void Cloth::simulate(const SimulationOptions& options) { engine_->simulate(options); }
+bool Cloth::simulated() const { return engine_->simulated(); }
+void Cloth::step() { engine_->step(); }
+bool Cloth::state_is_finite() const { return engine_->state_is_finite(); }
+std::string Cloth::save_state() const { return engine_->save_state(); }
+void Cloth::load_state(const std::string& state, const std::string& source) { engine_->load_state(state, source); }
 
 void Cloth::set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) {
   const std::size_t expected = 3 * std::size_t(node_count());

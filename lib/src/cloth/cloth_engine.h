@@ -2,10 +2,11 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
-#include "sim/pd_solver.h"
 #include "backend/systems.h"
 #include "tear/cloth.h"
+#include "tear/simulation.h"
 
 namespace tear {
 
@@ -16,20 +17,22 @@ class Cloth::Engine {
   virtual index_t node_count() const = 0;
   virtual index_t face_count() const = 0;
   virtual CutStats cut(const std::vector<CutLine>& cuts, const CutOptions& options) = 0;
+  virtual void simulate(const SimulationOptions& options) = 0;
+  virtual bool simulated() const = 0;
+  virtual void step() = 0;
+  virtual bool state_is_finite() const = 0;
   virtual Mesh mesh() const = 0;
   virtual Topology topology() const = 0;
   virtual std::vector<float> node_pos() const = 0;
   virtual std::vector<float> node_rest() const = 0;
   virtual std::vector<float> node_vel() const = 0;
+  virtual std::vector<std::uint8_t> node_pinned() const = 0;
   virtual CutProvenance provenance() const = 0;
+  virtual std::string save_state() const = 0;
+  /// Throws an input `Error` naming `source` when `state` is not a consistent cloth.
+  virtual void load_state(const std::string& state, const std::string& source) = 0;
   /// Sizes already checked by `Cloth::set_node_state`.
   virtual void set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) = 0;
-  /// The state in the backend's own memory, [node_count * 3] each; valid until the next cut.
-  virtual float* device_node_pos() = 0;
-  virtual float* device_node_vel() = 0;
-  /// The solver of the current mesh, built from the arrays and topology on the backend.
-  virtual std::unique_ptr<PdSolver::Impl> make_solver(const SimulationOptions& options,
-                                                      const std::vector<std::uint8_t>& node_pinned) const = 0;
 };
 
 namespace backend {

@@ -6,16 +6,17 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <limits>
-#include <memory>
-#include <string>
 #include <system_error>
+#include <limits>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "tear/checkpoint.h"
 #include "tear/error.h"
 #include "tear/frame_path.h"
+#include "tear/frame_sink.h"
 #include "tear/simulation.h"
 #include "tear/validate_mesh.h"
 #include "tear/write_mesh.h"
@@ -37,81 +38,6 @@ void check_frame_count(const CutScript& script, int frame_count) {
                                       ", the frames of the script)");
 }
 
-void create_folder_of(const std::string& path) {
-  const std::filesystem::path folder = std::filesystem::path(path).parent_path();
-  if (folder.empty()) return;
-  std::error_code error;
-  std::filesystem::create_directories(folder, error);
-  if (error) throw runtime_error(folder.string() + ": cannot create the output folder: " + error.message());
-}
-
-/// The options with only the pins of one kind.
-SimulationOptions with_pins_of(const SimulationOptions& options, Pin::Kind kind) {
-  SimulationOptions only = options;
-  only.pins.clear();
-  for (const Pin& pin : options.pins)
-    if (pin.kind == kind) only.pins.push_back(pin);
-  return only;
-}
-
-/// The simulation of a run: the solver of the cloth's current mesh and the `nodes` pins carried
-/// through the cuts.
-class FrameSimulation {
- public:
-  FrameSimulation(const SimulationOptions& options, const Cloth& cloth)
-      : options_(options),
-        box_pins_(with_pins_of(options, Pin::Kind::box)),
-        node_listed_(resolve_pins(with_pins_of(options, Pin::Kind::nodes), cloth.node_rest(), cloth.node_count())) {}
-
-  /// Rebuilds the solver when the cloth's mesh is not the one it was built for, then steps a frame.
-  void step(Cloth& cloth, bool mesh_changed) {
-    if (!solver_ || mesh_changed) rebuild(cloth);
-    solver_->step(cloth);
-  }
-
- private:
-  void rebuild(const Cloth& cloth) {
-    const index_t node_count = cloth.node_count();
-    if (solver_) {
-      // After a cut: the provenance (a download) is only needed while a listed pin is left to carry.
-      if (std::find(node_listed_.begin(), node_listed_.end(), 1) != node_listed_.end())
-        carry_listed_pins(cloth.provenance(), node_count);
-      else
-        node_listed_.assign(static_cast<std::size_t>(node_count), 0);
-    }
-    const std::vector<float> node_rest = cloth.node_rest();
-    std::vector<std::uint8_t> node_pinned = resolve_pins(box_pins_, node_rest, node_count);
-    for (index_t n = 0; n < node_count; ++n) node_pinned[n] |= node_listed_[n];
-    solver_ = std::make_unique<PdSolver>(cloth, options_, node_pinned);
-  }
-
-  /// A new node stays pinned when its only source (weight 1) was: the copies of a pinned node. A node
-  /// interpolated between several old ones lies on a cut edge or inside a face, and is free.
-  void carry_listed_pins(const CutProvenance& provenance, index_t node_count) {
-    std::vector<std::uint8_t> carried(static_cast<std::size_t>(node_count), 0);
-    if (provenance.node_source.size() == 3 * carried.size()) {
-      for (index_t n = 0; n < node_count; ++n) {
-        const index_t* source = &provenance.node_source[3 * static_cast<std::size_t>(n)];
-        const float* weight = &provenance.node_source_weight[3 * static_cast<std::size_t>(n)];
-        int used = 0;
-        index_t only = -1;
-        for (int k = 0; k < 3; ++k)
-          if (source[k] >= 0 && weight[k] != 0.0f) {
-            ++used;
-            only = source[k];
-          }
-        if (used == 1 && only < static_cast<index_t>(node_listed_.size()) && node_listed_[only]) carried[n] = 1;
-      }
-    }
-    node_listed_.swap(carried);
-  }
-
-  SimulationOptions options_;
-  SimulationOptions box_pins_;
-  std::vector<std::uint8_t> node_listed_;  // [node_count] pinned by a `nodes` pin, on the current mesh
-  std::unique_ptr<PdSolver> solver_;
-};
-
 using Vec3 = std::array<double, 3>;
 
 Vec3 node_at(const std::vector<float>& node_pos, index_t n) {
@@ -124,6 +50,23 @@ Vec3 cross(const Vec3& a, const Vec3& b) {
 }
 double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
+
+/// What a checkpoint of this run is made from: the mesh as read (its file and the reading options),
+/// the script file (or, for a script made in memory, its name), the device and the options given.
+RunInputs run_inputs(const Mesh& mesh, const CutScript& script, const RunOptions& options) {
+  RunInputs inputs;
+  std::string bytes;
+  for (const auto* floats : {&mesh.node_pos, &mesh.corner_uv, &mesh.corner_normal})
+    bytes.append(reinterpret_cast<const char*>(floats->data()), floats->size() * sizeof(float));
+  bytes.append(reinterpret_cast<const char*>(mesh.face_nodes.data()), mesh.face_nodes.size() * sizeof(index_t));
+  inputs.mesh_digest = digest_bytes(bytes);
+  std::error_code error;
+  inputs.script_digest = std::filesystem::is_regular_file(script.path, error) ? digest_file(script.path)
+                                                                              : digest_bytes(script.path);
+  inputs.options = "tear " TEAR_VERSION ";device=" + std::string(to_string(options.device)) +
+                   (options.result_options.empty() ? "" : ";" + options.result_options);
+  return inputs;
+}
 
 nlohmann::json frame_report(const FrameResult& frame, const Cloth& cloth) {
   return {{"frame", frame.frame},    {"nodes", cloth.node_count()},  {"faces", cloth.face_count()},
@@ -188,12 +131,12 @@ void check_run_inputs(const CutScript& script, const Mesh& mesh, const std::stri
   if (script.simulation) resolve_pins(*script.simulation, mesh.node_pos, mesh.node_count());
 }
 
-void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame) {
+void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame,
+              int first_frame) {
   check_frame_count(script, frame_count);
-  std::unique_ptr<FrameSimulation> simulation;
-  if (script.simulation) simulation = std::make_unique<FrameSimulation>(*script.simulation, cloth);
+  if (script.simulation && !cloth.simulated()) cloth.simulate(*script.simulation);
   const CutOptions cut_options{script.snap};
-  for (int frame = 1; frame <= frame_count; ++frame) {
+  for (int frame = first_frame; frame <= frame_count; ++frame) {
     const std::vector<const Cut*> cuts = script.cuts_of_frame(frame);
     FrameResult result;
     result.frame = frame;
@@ -209,13 +152,14 @@ void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const Fram
       result.stats = cloth.cut(lines, cut_options);
       result.remesh_ms = ms_since(start);
     }
-    if (simulation) {
+    if (cloth.simulated()) {
       const Clock::time_point start = Clock::now();
-      // A cut that splits nothing leaves the counts, the node numbering and the faces as they were.
-      const bool mesh_changed = result.stats.nodes_after != result.stats.nodes_before ||
-                                result.stats.faces_after != result.stats.faces_before;
-      simulation->step(cloth, mesh_changed);
-      synchronize(cloth.device());  // the step only queues work: wait for it, for the time
+      cloth.step();
+      // Waits for the step (for its time) and stops before a frame of NaNs is handed on.
+      if (!cloth.state_is_finite())
+        throw runtime_error(script.path + ": frame " + std::to_string(frame) +
+                            ": the simulation diverged (a position or velocity is not finite); lower the stiffness "
+                            "or raise the substeps or iterations");
       result.simulated = true;
       result.simulation_ms = ms_since(start);
     }
@@ -236,14 +180,25 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
   nlohmann::json frames = nlohmann::json::array();
   double remesh_ms = 0, simulation_ms = 0;
   RunSummary summary;
+  FrameFiles sink(pattern);
   Cloth cloth(mesh, options.device);
+  const bool checkpoints = !options.checkpoint_path.empty();
+  const RunInputs inputs = checkpoints ? run_inputs(mesh, script, options) : RunInputs{};
+  int first_frame = 1;
+  if (checkpoints && options.resume && std::filesystem::exists(options.checkpoint_path)) {
+    const Checkpoint checkpoint = read_checkpoint(options.checkpoint_path);
+    const std::string why = inputs_mismatch(checkpoint.inputs, inputs);
+    if (!why.empty()) throw input_error(options.checkpoint_path, "cannot resume from this checkpoint: " + why);
+    if (script.simulation) cloth.simulate(*script.simulation);
+    cloth.load_state(checkpoint.cloth_state, options.checkpoint_path);
+    first_frame = checkpoint.frame + 1;
+  }
   run_cuts(cloth, script, frame_count, [&](const FrameResult& frame, const Cloth& cut_cloth) {
     FrameResult written = frame;
-    written.path = pattern.path(frame.frame);
-    create_folder_of(written.path);
+    written.path = sink.path_of(frame.frame);
     Mesh out = cut_cloth.mesh();
     if (frame.simulated && out.has_normals()) out.corner_normal = area_weighted_corner_normals(out);
-    write_mesh(out, written.path);
+    sink.write(frame.frame, out);
     if (!options.report_path.empty()) {
       nlohmann::json entry = frame_report(frame, cut_cloth);
       // The remesher's quality is a property of the rest shape; without simulation it is also the
@@ -257,7 +212,15 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     summary.frames = frame.frame;
     summary.faces = cut_cloth.face_count();
     if (options.on_frame) options.on_frame(written, cut_cloth);
-  });
+    const bool stopping = options.stop && *options.stop;
+    if (checkpoints && (stopping || frame.frame == frame_count || frame.frame % std::max(options.checkpoint_every, 1) == 0))
+      write_checkpoint(options.checkpoint_path, Checkpoint{frame.frame, inputs, cut_cloth.save_state()});
+    if (stopping)
+      throw Error(ErrorKind::interrupted,
+                  "stopped after frame " + std::to_string(frame.frame) + " of " + std::to_string(frame_count) +
+                      (checkpoints ? "; '--resume' goes on from " + options.checkpoint_path : std::string()));
+  }, first_frame);
+  sink.finish();
   summary.wall_ms = ms_since(start);
 
   if (!options.report_path.empty()) {

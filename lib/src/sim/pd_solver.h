@@ -17,8 +17,9 @@ class PdSolver::Impl {
   virtual std::size_t bytes_per_iteration() const = 0;
   virtual const SimulationOptions& options() const = 0;
   virtual void step() = 0;
-  /// Copies the state in from `node_pos`/`node_vel` (this backend's memory), steps, copies it back.
-  virtual void step_state(float* node_pos, float* node_vel) = 0;
+  /// Steps, in place, a state held elsewhere in this backend's memory (a cloth's), [node_count * 3]
+  /// each: the solver's own state is not used.
+  virtual void step_in_place(float* node_pos, float* node_vel) = 0;
   virtual void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) = 0;
   virtual std::vector<float> node_pos() const = 0;
   virtual std::vector<float> node_vel() const = 0;

@@ -118,20 +118,23 @@ class PdSolverOn final : public PdSolver::Impl {
     build_model(face_nodes, node_rest, topo);
   }
 
-  /// From a mesh already on this backend with its topology (a cloth's): nothing leaves the device.
-  PdSolverOn(const vec<index_t>& face_nodes, const vec<float>& node_rest, const DeviceTopology<System>& topo,
-             const SimulationOptions& options, const std::vector<std::uint8_t>& node_pinned)
-      : PdSolverOn(options, topo.node_count, node_pinned) {
-    build_model(face_nodes, node_rest, topo);
+  /// From a cloth on this backend: its faces, rest shape, topology and pins; nothing leaves the device.
+  PdSolverOn(const DeviceCloth<System>& cloth, const SimulationOptions& options)
+      : PdSolverOn(options, cloth.node_count(), std::vector<std::uint8_t>()) {
+    thrust::copy(Traits<System>::policy(), cloth.node_pinned.begin(), cloth.node_pinned.end(), node_pinned_.begin());
+    build_model(cloth.face_nodes, cloth.node_rest, cloth.topo);
   }
 
  private:
   PdSolverOn(const SimulationOptions& options, index_t node_count, const std::vector<std::uint8_t>& node_pinned)
       : options_(options),
         node_count_(node_count),
-        node_pinned_(node_pinned.begin(), node_pinned.end()),
+        node_pinned_(static_cast<std::size_t>(node_count), 0),
         node_pos_(3 * static_cast<std::size_t>(node_count), 0.0f),
         node_vel_(3 * static_cast<std::size_t>(node_count), 0.0f) {
+    if (!node_pinned.empty()) thrust::copy(node_pinned.begin(), node_pinned.end(), node_pinned_.begin());
+    state_pos_ = raw<float>(node_pos_);
+    state_vel_ = raw<float>(node_vel_);
     launch_mode_ = launch_mode();
     const auto& cheb = options.chebyshev;
     omega_host_.resize(static_cast<std::size_t>(options.iterations));
@@ -177,17 +180,13 @@ class PdSolverOn final : public PdSolver::Impl {
   const SimulationOptions& options() const override { return options_; }
 
   void step() override;
-  void step_state(float* node_pos, float* node_vel) override {
-    const auto policy = Traits<System>::policy();
-    const std::size_t n = 3 * static_cast<std::size_t>(node_count_);
-    thrust::copy(policy, node_pos, node_pos + n, node_pos_.begin());
-    thrust::copy(policy, node_vel, node_vel + n, node_vel_.begin());
+  void step_in_place(float* node_pos, float* node_vel) override {
+    bind_state(node_pos, node_vel);
     step();
-    thrust::copy(policy, node_pos_.begin(), node_pos_.end(), node_pos);
-    thrust::copy(policy, node_vel_.begin(), node_vel_.end(), node_vel);
   }
 
   void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) override {
+    bind_state(raw<float>(node_pos_), raw<float>(node_vel_));
     thrust::copy(node_pos.begin(), node_pos.end(), node_pos_.begin());
     thrust::copy(node_vel.begin(), node_vel.end(), node_vel_.begin());
   }
@@ -199,6 +198,14 @@ class PdSolverOn final : public PdSolver::Impl {
   std::vector<std::uint8_t> node_pinned() const override { return to_host<std::uint8_t>(node_pinned_); }
 
  private:
+  /// Steps the state at `node_pos`/`node_vel` from now on; a recorded substep holds the old
+  /// pointers, so it is recorded again.
+  void bind_state(float* node_pos, float* node_vel) {
+    if (node_pos == state_pos_ && node_vel == state_vel_) return;
+    state_pos_ = node_pos;
+    state_vel_ = node_vel;
+    step_graph_ = std::make_unique<ReplayGraph<System>>();
+  }
   /// Masses, constraints, the node→constraint CSR and the Jacobi diagonal of the mesh; the state
   /// starts at rest (positions = rest positions, no velocity).
   void build_model(const vec<index_t>& face_nodes, const vec<float>& node_rest, const DeviceTopology<System>& topo);
@@ -231,7 +238,9 @@ class PdSolverOn final : public PdSolver::Impl {
   // Scratch of a step.
   vec<float> node_pred_, constraint_force_;
   vec<float> node_iter_[3];
-  ReplayGraph<System> step_graph_;  // the launches of one substep, recorded on the first step
+  float* state_pos_ = nullptr;  // the state stepped: the solver's own or a cloth's, [node_count * 3]
+  float* state_vel_ = nullptr;
+  std::unique_ptr<ReplayGraph<System>> step_graph_ = std::make_unique<ReplayGraph<System>>();  // one substep, recorded on the first step
   LaunchMode launch_mode_ = LaunchMode::persistent;
   int persistent_grid_ = -1;        // not decided yet
   std::vector<float> omega_host_;   // ω of each iteration (Wang 2015, eq. 11)
@@ -295,7 +304,7 @@ void PdSolverOn<System>::step() {
     return;
   }
   // One substep is always the same launches with the same arguments: replayed as one graph.
-  step_graph_.run(enqueue, options_.substeps);
+  step_graph_->run(enqueue, options_.substeps);
 }
 
 template <class System>
@@ -307,7 +316,7 @@ SubstepKernels PdSolverOn<System>::substep_kernels(const float* omega) {
   const PdConstraints model = constraints();
   SubstepKernels s{};
   // Inertial prediction (Bouaziz et al. 2014, eq. 9): the first iterate.
-  s.predict = predict_positions{raw<float>(node_pos_), raw<float>(node_vel_), raw<std::uint8_t>(node_pinned_),
+  s.predict = predict_positions{state_pos_, state_vel_, raw<std::uint8_t>(node_pinned_),
                                 static_cast<float>(h), gravity, raw<float>(node_pred_), raw<float>(node_iter_[0]),
                                 raw<float>(node_iter_[1])};
   // Local step: every constraint's projection at the current iterate (§4.1).
@@ -321,7 +330,7 @@ SubstepKernels PdSolverOn<System>::substep_kernels(const float* omega) {
   // Velocity update, damping and colliders.
   s.finish = finish_step{raw<std::uint8_t>(node_pinned_), nullptr, static_cast<float>(1.0 / h),
                          static_cast<float>(std::pow(1.0 - options_.damping, h)), raw<PdCollider>(colliders_),
-                         static_cast<index_t>(colliders_.size()), raw<float>(node_pos_), raw<float>(node_vel_)};
+                         static_cast<index_t>(colliders_.size()), state_pos_, state_vel_};
   s.node_count = node_count_;
   s.constraint_count = constraint_count_;
   s.iterations = options_.iterations;
@@ -404,20 +413,15 @@ std::unique_ptr<PdSolver::Impl> make_pd_solver(const std::vector<index_t>& face_
 }
 
 template <class System>
-std::unique_ptr<PdSolver::Impl> make_pd_solver(const vector<System, index_t>& face_nodes,
-                                               const vector<System, float>& node_rest,
-                                               const DeviceTopology<System>& topo, const SimulationOptions& options,
-                                               const std::vector<std::uint8_t>& node_pinned) {
-  return std::make_unique<PdSolverOn<System>>(face_nodes, node_rest, topo, options, node_pinned);
+std::unique_ptr<PdSolver::Impl> make_pd_solver(const DeviceCloth<System>& cloth, const SimulationOptions& options) {
+  return std::make_unique<PdSolverOn<System>>(cloth, options);
 }
 
 #define TEAR_INSTANTIATE(S)                                                                                          \
   template std::unique_ptr<PdSolver::Impl> make_pd_solver<S>(const std::vector<index_t>&, const std::vector<float>&, \
                                                              index_t, const SimulationOptions&,                      \
                                                              const std::vector<std::uint8_t>&);                      \
-  template std::unique_ptr<PdSolver::Impl> make_pd_solver<S>(const vector<S, index_t>&, const vector<S, float>&,     \
-                                                             const DeviceTopology<S>&, const SimulationOptions&,     \
-                                                             const std::vector<std::uint8_t>&);
+  template std::unique_ptr<PdSolver::Impl> make_pd_solver<S>(const DeviceCloth<S>&, const SimulationOptions&);
 TEAR_FOR_EACH_SYSTEM(TEAR_INSTANTIATE)
 #undef TEAR_INSTANTIATE
 

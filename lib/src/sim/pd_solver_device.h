@@ -1,22 +1,18 @@
-// tear: building a solver from a mesh already on a backend (a cloth's arrays and topology), for
-// device code only (the .inl files).
+// tear: the solver of a cloth already on a backend, for device code only (the .inl files).
 #pragma once
 
 #include <memory>
-#include <vector>
 
 #include "backend/backend.h"
-#include "topology/device_topology.h"
+#include "cloth/device_cloth.h"
 #include "sim/pd_solver.h"
 
 namespace tear::backend {
 
-/// The solver of the mesh `face_nodes`/`node_rest` whose topology is `topo`, all on `System`;
-/// `node_pinned` [node_count] is already resolved. Nothing goes through the host but the pins.
+/// The solver of `cloth`'s current mesh, its model (masses, constraints, pins) built on `System`
+/// from the cloth's faces, rest shape, topology and carried pins; nothing goes through the host.
+/// Step the cloth's own state with `step_in_place`.
 template <class System>
-std::unique_ptr<PdSolver::Impl> make_pd_solver(const vector<System, index_t>& face_nodes,
-                                               const vector<System, float>& node_rest,
-                                               const DeviceTopology<System>& topo, const SimulationOptions& options,
-                                               const std::vector<std::uint8_t>& node_pinned);
+std::unique_ptr<PdSolver::Impl> make_pd_solver(const DeviceCloth<System>& cloth, const SimulationOptions& options);
 
 }  // namespace tear::backend

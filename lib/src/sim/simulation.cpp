@@ -5,7 +5,6 @@
 #include <cmath>
 #include <limits>
 
-#include "cloth/cloth_engine.h"
 #include "sim/pd_solver.h"
 #include "backend/systems.h"
 #include "tear/error.h"
@@ -70,13 +69,6 @@ PdSolver::PdSolver(const std::vector<index_t>& face_nodes, const std::vector<flo
   });
 }
 
-PdSolver::PdSolver(const Cloth& cloth, const SimulationOptions& options, const std::vector<std::uint8_t>& node_pinned) {
-  if (node_pinned.size() != static_cast<std::size_t>(cloth.node_count()))
-    throw runtime_error("PdSolver: node_pinned holds " + std::to_string(node_pinned.size()) + " flags, expected " +
-                        std::to_string(cloth.node_count()));
-  impl_ = cloth.engine_->make_solver(options, node_pinned);
-}
-
 PdSolver::~PdSolver() = default;
 PdSolver::PdSolver(PdSolver&&) noexcept = default;
 PdSolver& PdSolver::operator=(PdSolver&&) noexcept = default;
@@ -94,14 +86,6 @@ void PdSolver::step(std::vector<float>& node_pos, std::vector<float>& node_vel) 
   impl_->step();
   node_pos = impl_->node_pos();
   node_vel = impl_->node_vel();
-}
-
-void PdSolver::step(Cloth& cloth) {
-  if (cloth.device() != impl_->device() || cloth.node_count() != impl_->node_count())
-    throw runtime_error("PdSolver::step: the cloth has " + std::to_string(cloth.node_count()) + " nodes on " +
-                        to_string(cloth.device()) + ", the solver " + std::to_string(impl_->node_count()) + " on " +
-                        to_string(impl_->device()));
-  impl_->step_state(cloth.engine_->device_node_pos(), cloth.engine_->device_node_vel());
 }
 
 void PdSolver::set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) {

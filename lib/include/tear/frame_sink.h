@@ -1,0 +1,42 @@
+// tear: where the frames of a run go. One interface, several sinks: one file per frame today
+// (`FrameFiles`), one layer for a whole sequence where a format holds time samples.
+#pragma once
+
+#include <string>
+
+#include "tear/frame_path.h"
+#include "tear/mesh.h"
+
+namespace tear {
+
+/// Receives the frames of a run in order. `write` is called once per frame with the frame's number
+/// as outputs show it and the cloth's mesh after that frame (positions, faces, corner attributes,
+/// identity arrays); `finish` once after the last frame. Either throws a runtime `Error` naming
+/// the file when it cannot write; nothing is then left half-written.
+class FrameSink {
+ public:
+  virtual ~FrameSink() = default;
+  virtual void write(int frame, const Mesh& mesh) = 0;
+  virtual void finish() {}
+  /// The file frame `frame` goes to, for progress lines and reports.
+  virtual std::string path_of(int frame) const = 0;
+};
+
+/// One file per frame, named by a `FramePattern`, in the format of its extension (`write_mesh`),
+/// each written atomically; the folders are created as needed (a folder that cannot be created is
+/// a runtime `Error` naming it).
+class FrameFiles final : public FrameSink {
+ public:
+  explicit FrameFiles(FramePattern pattern) : pattern_(std::move(pattern)) {}
+  void write(int frame, const Mesh& mesh) override;
+  std::string path_of(int frame) const override { return pattern_.path(frame); }
+
+ private:
+  FramePattern pattern_;
+};
+
+/// Creates the folder `path` would be written in, with its parents; a runtime `Error` naming the
+/// folder when it cannot be created.
+void create_folder_of(const std::string& path);
+
+}  // namespace tear
