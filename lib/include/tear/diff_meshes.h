@@ -43,9 +43,9 @@ struct Difference {
   /// The node (NodeCount, FaceCount: -1; Position, Velocity: the node; Face: the face in a, or in b
   /// when `in_b`; Uv, Normal: the face of a whose corner differs, -1 when only one mesh has them).
   index_t element = none;
-  int corner = -1;     ///< Uv, Normal: the corner (0..2) of face `element` of a; else -1
-  int component = -1;  ///< Position, Velocity, Normal: 0..2 (x, y, z); Uv: 0..1 (u, v); else -1
-  bool in_b = false;   ///< Face: the unmatched face is b's (a's faces all matched)
+  int corner = -1;                  ///< Uv, Normal: the corner (0..2) of face `element` of a; else -1
+  int component = -1;               ///< Position, Velocity, Normal: 0..2 (x, y, z); Uv: 0..1 (u, v); else -1
+  bool in_b = false;                ///< Face: the unmatched face is b's (a's faces all matched)
   double value_a = 0, value_b = 0;  ///< both values (counts for NodeCount, FaceCount)
   double by = 0;                    ///< |value_a - value_b| (infinite when one is NaN)
   std::string describe() const;     ///< one line, e.g. "node 12 y position 0.5 vs 0.50002 (by 2e-05)"

@@ -15,7 +15,8 @@ namespace {
 
 /// |a - b|, with NaN equal to NaN and NaN against a number infinitely far.
 double distance(double a, double b) {
-  if (std::isnan(a) || std::isnan(b)) return std::isnan(a) && std::isnan(b) ? 0.0 : std::numeric_limits<double>::infinity();
+  if (std::isnan(a) || std::isnan(b))
+    return std::isnan(a) && std::isnan(b) ? 0.0 : std::numeric_limits<double>::infinity();
   if (a == b) return 0.0;  // also inf == inf
   return std::fabs(a - b);
 }
@@ -51,16 +52,15 @@ std::vector<CanonicalFace> canonical_faces(const Mesh& mesh) {
 
 /// Keeps the first difference in the order (kind, element, corner, component).
 void keep_first(Difference& first, const Difference& d) {
-  if (first.kind == DiffKind::None ||
-      std::make_tuple(d.kind, d.element, d.corner, d.component) <
-          std::make_tuple(first.kind, first.element, first.corner, first.component))
+  if (first.kind == DiffKind::None || std::make_tuple(d.kind, d.element, d.corner, d.component) <
+                                          std::make_tuple(first.kind, first.element, first.corner, first.component))
     first = d;
 }
 
 /// Compares per-element values of `width` components; records the largest difference and any
 /// beyond `tolerance`.
-void compare_values(const std::vector<float>& a, const std::vector<float>& b, std::size_t ia, std::size_t ib,
-                    int width, double tolerance, Difference d, double& max, Difference& first) {
+void compare_values(const std::vector<float>& a, const std::vector<float>& b, std::size_t ia, std::size_t ib, int width,
+                    double tolerance, Difference d, double& max, Difference& first) {
   for (int k = 0; k < width; ++k) {
     const double va = a[ia * width + k], vb = b[ib * width + k];
     const double by = distance(va, vb);
@@ -79,14 +79,22 @@ void compare_values(const std::vector<float>& a, const std::vector<float>& b, st
 
 const char* to_string(DiffKind kind) {
   switch (kind) {
-    case DiffKind::None: return "none";
-    case DiffKind::NodeCount: return "node count";
-    case DiffKind::FaceCount: return "face count";
-    case DiffKind::Face: return "face";
-    case DiffKind::Position: return "position";
-    case DiffKind::Velocity: return "velocity";
-    case DiffKind::Uv: return "uv";
-    case DiffKind::Normal: return "normal";
+    case DiffKind::None:
+      return "none";
+    case DiffKind::NodeCount:
+      return "node count";
+    case DiffKind::FaceCount:
+      return "face count";
+    case DiffKind::Face:
+      return "face";
+    case DiffKind::Position:
+      return "position";
+    case DiffKind::Velocity:
+      return "velocity";
+    case DiffKind::Uv:
+      return "uv";
+    case DiffKind::Normal:
+      return "normal";
   }
   return "unknown";
 }
@@ -96,21 +104,20 @@ std::string Difference::describe() const {
   static const char* const uv[] = {"u", "v"};
   const std::string values = number(value_a) + " vs " + number(value_b) + " (by " + number(by) + ")";
   switch (kind) {
-    case DiffKind::None: return "equal";
+    case DiffKind::None:
+      return "equal";
     case DiffKind::NodeCount:
     case DiffKind::FaceCount:
       return std::string(to_string(kind)) + " " + number(value_a) + " vs " + number(value_b);
     case DiffKind::Face:
-      return "face " + std::to_string(element) + " of " + (in_b ? "b" : "a") + " has no match in " +
-             (in_b ? "a" : "b");
+      return "face " + std::to_string(element) + " of " + (in_b ? "b" : "a") + " has no match in " + (in_b ? "a" : "b");
     case DiffKind::Position:
     case DiffKind::Velocity:
       return "node " + std::to_string(element) + " " + xyz[component] + " " + to_string(kind) + " " + values;
     case DiffKind::Uv:
     case DiffKind::Normal:
       if (element == none)
-        return std::string(kind == DiffKind::Uv ? "uvs" : "normals") + " in " + (value_a != 0 ? "a" : "b") +
-               " only";
+        return std::string(kind == DiffKind::Uv ? "uvs" : "normals") + " in " + (value_a != 0 ? "a" : "b") + " only";
       return "face " + std::to_string(element) + " corner " + std::to_string(corner) + " " +
              (kind == DiffKind::Uv ? uv[component] : xyz[component]) + " " + to_string(kind) + " " + values;
   }
@@ -196,8 +203,8 @@ MeshDiff diff_meshes(const Mesh& a, const Mesh& b, const DiffOptions& options) {
         d.element = pair.first->face;
         d.corner = corner_a;
         compare_values(va, vb, 3 * static_cast<std::size_t>(pair.first->face) + corner_a,
-                       3 * static_cast<std::size_t>(pair.second->face) + corner_b, width, options.uv_tolerance, d,
-                       max, first);
+                       3 * static_cast<std::size_t>(pair.second->face) + corner_b, width, options.uv_tolerance, d, max,
+                       first);
       }
     }
   };
