@@ -38,7 +38,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "tear " TEAR_VERSION, "Print the version and exit");
   app.require_subcommand(1);
   app.footer(
-      "Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure, 4 stopped (resumable), 5 meshes differ (tear diff). Run 'tear COMMAND --help' for "
+      "Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure, 4 stopped (resumable), 5 meshes differ (tear "
+      "diff). Run 'tear COMMAND --help' for "
       "the options of a command; docs/cli.md describes them all.");
 
   tear::cli::add_info_command(app);
