@@ -1,5 +1,5 @@
-// tear: where the frames of a run go. One interface, several sinks: one file per frame today
-// (`FrameFiles`), one layer for a whole sequence where a format holds time samples.
+// tear: where the frames of a run go. One interface, several sinks: one file per frame
+// (`FrameFiles`), one USD layer for a whole sequence (`UsdLayer`, tear/usd_layer.h).
 #pragma once
 
 #include <string>

@@ -19,5 +19,6 @@
 #include "tear/run_cuts.h"
 #include "tear/simulation.h"
 #include "tear/topology.h"
+#include "tear/usd_layer.h"
 #include "tear/validate_mesh.h"
 #include "tear/write_mesh.h"

@@ -1,7 +1,9 @@
 // tear: a torn sequence as USD: one ASCII layer (USDA) holding every frame as a time sample, or
 // one layer per frame.
 //
-// A two-frame run of one triangle whose second frame is cut in two gives (abridged):
+// A two-frame run of the triangle (0,0,0) (1,0,0) (0,1,0), cut through its corner 0 in frame 2
+// (node 3 is node 0's copy, nodes 4 and 5 the two sides of the cut's point on edge 1-2), gives
+// (abridged; tests/test_usd_layer.cpp checks it):
 //
 //   #usda 1.0
 //   (
@@ -10,17 +12,27 @@
 //       framesPerSecond = 24
 //       ...
 //   )
+//
 //   def Mesh "cloth"
 //   {
+//       ...
 //       int[] faceVertexCounts.timeSamples = {
 //           1: [3],
 //           2: [3, 3],
 //       }
+//       int[] faceVertexIndices.timeSamples = {
+//           1: [0, 1, 2],
+//           2: [4, 2, 3, 0, 1, 5],
+//       }
 //       point3f[] points.timeSamples = {
 //           1: [(0, 0, 0), (1, 0, 0), (0, 1, 0)],
-//           2: [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0.5, 0, 0), (0.5, 0, 0)],
+//           2: [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 0), (0.5, 0.5, 0), (0.5, 0.5, 0)],
 //       }
 //       ...
+//       int[] primvars:tear_edge.timeSamples = {
+//           1: [0, 0, 0],
+//           2: [0, 0, 1, 0, 0, 1],
+//       }
 //   }
 //
 // The layer is the form a renderer needs to motion-blur a mesh whose topology changes: points and
@@ -74,8 +86,10 @@ bool is_usd_path(const std::string& path);
 /// Without a frame number in `pattern` (`shot.usda`) every frame goes to one layer, with
 /// `startTimeCode`/`endTimeCode` the first and last frame written. Memory stays bounded: each
 /// attribute's samples are streamed to a temporary file beside the layer
-/// (`.<name>.<attribute>.tmp.<pid>`), and `finish` assembles the layer in `.<name>.tmp.<pid>` and
-/// renames it, so the layer appears whole or not at all. With a frame number (`shot.####.usda`)
+/// (`.<name>.<attribute>.tmp.<pid>`) by a writer thread of the layer's own (`write` copies the
+/// mesh and returns; at most two frames wait), and `finish` waits for it, assembles the layer in
+/// `.<name>.tmp.<pid>` and renames it, so the layer appears whole or not at all. A failure of the
+/// writer is thrown by the next `write` or by `finish`. With a frame number (`shot.####.usda`)
 /// each frame is a layer of its own holding that frame's sample, written atomically by `write`.
 ///
 /// Floats are written as the shortest text that reads back to the same float, so the same frames

@@ -132,7 +132,7 @@ enum class Attribute {
 };
 constexpr int attribute_count = static_cast<int>(Attribute::count);
 
-/// The attribute's declaration: type and name, and its metadata (empty when it has none).
+/// An attribute's USD type and name, the tag of its temporary file, and whether it is faceVarying.
 struct Declaration {
   const char* type_and_name;
   const char* file_tag;  // in the temporary file's name
@@ -169,6 +169,10 @@ void check_arrays(const Mesh& mesh, const std::string& path) {
   if (mesh.has_normals() && mesh.corner_normal.size() != 3 * corner_count)
     throw fail("corner_normal has the wrong size");
   if (mesh.has_velocities() && mesh.node_vel.size() != mesh.node_pos.size()) throw fail("node_vel has the wrong size");
+  for (std::size_t c = 0; c < corner_count; ++c)
+    if (mesh.face_nodes[c] < 0 || mesh.face_nodes[c] >= mesh.node_count())
+      throw fail("face " + std::to_string(c / 3) + " uses node " + std::to_string(mesh.face_nodes[c]) + " of " +
+                 std::to_string(mesh.node_count()));
 }
 
 /// Per-corner values `corner_values` [corner_count * width] as tuples. The corners of one node
