@@ -72,15 +72,17 @@ TEST_CASE("resume: runs stopped by SIGTERM and SIGKILL at random frames give the
   tear::write_mesh(tear::make_sheet(sheet), (dir / "sheet.obj").string());
   const fs::path script = dir.file("shot.json", script_text);
   const std::string mesh_arg = (dir / "sheet.obj").string();
+  // The backend under test (TEAR_TEST_DEVICE): the same bytes are asked of each, run against itself.
+  const std::string device = tear::to_string(tear::test::test_device());
 
   const tear::test::Run whole =
       dir.tear("run " + tear::test::quoted(dir / "sheet.obj") + " " + tear::test::quoted(script) + " -o " +
-               tear::test::quoted(dir / "whole" / "f.####.ply") + " --device cpu");
+               tear::test::quoted(dir / "whole" / "f.####.ply") + " --device " + device);
   REQUIRE(whole.exit_code == 0);
 
   // Stopped several times, each at a random frame, with each signal; resumed each time.
   const std::vector<std::string> args = {"run", mesh_arg, script.string(), "-o", (dir / "parts" / "f.####.ply").string(),
-                                         "--device", "cpu", "--checkpoint", (dir / "parts" / "shot.ckpt").string(),
+                                         "--device", device, "--checkpoint", (dir / "parts" / "shot.ckpt").string(),
                                          "--resume", "--progress", "lines"};
   auto frame_name = [](int f) { return "f." + std::string(4 - std::to_string(f).size(), '0') + std::to_string(f) + ".ply"; };
   int terms = 0, kills = 0, written = 0;  // frames on disk: 1..written
