@@ -76,15 +76,31 @@ struct CornerAttributes {
 };
 
 /// Writes the new corner's values from its parent face's corners, barycentric weights `b` (double,
-/// so a weight of exactly 0 keeps a zero value exactly zero).
+/// so a weight of exactly 0 keeps a zero value exactly zero). `Comps` fixed at compile time, so the
+/// loops unroll.
+template <int Comps>
 TEAR_HD inline void interpolate_corner(const CornerValues& a, index_t old_face, index_t new_corner, const double* b) {
-  double v[4] = {0, 0, 0, 0}, len2 = 0;
-  for (int d = 0; d < a.comps; ++d) {
-    for (int i = 0; i < 3; ++i) v[d] += b[i] * a.old_value[(3 * old_face + i) * a.comps + d];
+  double v[Comps], len2 = 0;
+  const float* old = a.old_value + 3 * Comps * old_face;
+  TEAR_UNROLL
+  for (int d = 0; d < Comps; ++d) {
+    v[d] = 0;
+    for (int i = 0; i < 3; ++i) v[d] += b[i] * old[i * Comps + d];
     len2 += v[d] * v[d];
   }
   const double scale = !a.unit ? 1.0 : len2 > 0 ? 1.0 / sqrt(len2) : 0.0;
-  for (int d = 0; d < a.comps; ++d) a.new_value[new_corner * a.comps + d] = static_cast<float>(v[d] * scale);
+  float* out = a.new_value + Comps * new_corner;
+  TEAR_UNROLL
+  for (int d = 0; d < Comps; ++d) out[d] = static_cast<float>(v[d] * scale);
+}
+
+TEAR_HD inline void interpolate_corner(const CornerValues& a, index_t old_face, index_t new_corner, const double* b) {
+  switch (a.comps) {
+    case 1: interpolate_corner<1>(a, old_face, new_corner, b); break;
+    case 2: interpolate_corner<2>(a, old_face, new_corner, b); break;
+    case 3: interpolate_corner<3>(a, old_face, new_corner, b); break;
+    default: interpolate_corner<4>(a, old_face, new_corner, b); break;
+  }
 }
 
 }  // namespace tear::kernels

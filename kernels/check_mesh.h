@@ -56,6 +56,33 @@ struct face_degenerate {
   }
 };
 
+/// A face on the same three nodes as another face, in either order. Two such faces oppositely
+/// oriented pass every other check (each of their edges has two consistently oriented faces) but
+/// close a surface of no volume: a cut through it separates the two faces along the cut and
+/// leaves them joined at its ends, which makes bow-tie nodes. Faces repeating a node are only
+/// degenerate. Scans the faces of the face's node of fewest faces.
+struct face_duplicate {
+  const index_t* face_nodes;
+  const index_t* node_face_offset;
+  const index_t* node_faces;
+  TEAR_HD int operator()(index_t f) const {
+    const index_t a = face_nodes[3 * f], b = face_nodes[3 * f + 1], c = face_nodes[3 * f + 2];
+    if (a == b || b == c || c == a) return 0;
+    index_t n = a;
+    if (node_face_offset[b + 1] - node_face_offset[b] < node_face_offset[n + 1] - node_face_offset[n]) n = b;
+    if (node_face_offset[c + 1] - node_face_offset[c] < node_face_offset[n + 1] - node_face_offset[n]) n = c;
+    for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) {
+      const index_t g = node_faces[i];
+      if (g == f) continue;
+      const index_t* m = face_nodes + 3 * g;
+      const bool has_a = m[0] == a || m[1] == a || m[2] == a, has_b = m[0] == b || m[1] == b || m[2] == b,
+                 has_c = m[0] == c || m[1] == c || m[2] == c;
+      if (has_a && has_b && has_c) return 1;
+    }
+    return 0;
+  }
+};
+
 struct edge_non_manifold {
   const index_t* edge_face_count;
   TEAR_HD int operator()(index_t e) const { return edge_face_count[e] > 2 ? 1 : 0; }

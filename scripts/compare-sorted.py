@@ -3,6 +3,9 @@
 normal) rotated to start at the smallest, and the sorted face lists must be equal, as must the
 sorted node positions. Used to check that a change renumbered nodes without changing any mesh.
   scripts/compare-sorted.py A.obj B.obj      or      scripts/compare-sorted.py DIR_A DIR_B
+With --tolerance T (for simulated runs, whose positions depend on summation order, hence on node
+order, in the last bits): the node and face counts must be equal and every node of each frame must
+lie within T (each coordinate) of a node of the other.
 Exits 0 when every pair is the same mesh, 1 otherwise (one line per differing pair)."""
 import os
 import sys
@@ -33,8 +36,48 @@ def canonical(path):
     return sorted(v), sorted(faces)
 
 
+def within(x, y, tol):
+    """Counts equal and every node of each within tol of a node of the other (a grid of cells tol)."""
+    (vx, fx), (vy, fy) = x, y
+    if len(vx) != len(vy) or len(fx) != len(fy):
+        return False
+    def pts(v):
+        return [tuple(float(c) for c in p) for p in v]
+    px, py = pts(vx), pts(vy)
+    def covered(a, b):
+        grid = {}
+        for p in b:
+            grid.setdefault(tuple(int(c // tol) for c in p), []).append(p)
+        for p in a:
+            cell = tuple(int(c // tol) for c in p)
+            found = False
+            for dx in (-1, 0, 1):
+                for dy in (-1, 0, 1):
+                    for dz in (-1, 0, 1):
+                        for q in grid.get((cell[0] + dx, cell[1] + dy, cell[2] + dz), ()):
+                            if all(abs(p[i] - q[i]) <= tol for i in range(3)):
+                                found = True
+                                break
+                        if found:
+                            break
+                    if found:
+                        break
+                if found:
+                    break
+            if not found:
+                return False
+        return True
+    return covered(px, py) and covered(py, px)
+
+
 def main():
-    a, b = sys.argv[1], sys.argv[2]
+    args = sys.argv[1:]
+    tol = None
+    if '--tolerance' in args:
+        i = args.index('--tolerance')
+        tol = float(args[i + 1])
+        del args[i:i + 2]
+    a, b = args[0], args[1]
     pairs = [(a, b)]
     if os.path.isdir(a):
         names = sorted(n for n in os.listdir(a) if n.endswith('.obj'))
@@ -45,7 +88,8 @@ def main():
             print(f'{y}: missing')
             bad += 1
             continue
-        if canonical(x) != canonical(y):
+        cx, cy = canonical(x), canonical(y)
+        if (cx != cy) if tol is None else not within(cx, cy, tol):
             print(f'{x} {y}: different meshes')
             bad += 1
     print(f'{len(pairs) - bad} of {len(pairs)} frames the same up to node order')

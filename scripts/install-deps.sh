@@ -10,8 +10,8 @@ cd "$(dirname "$0")/.."
 # assimp-testmodels: meshes written by other tools, read by the test suite.
 # python3, python3-venv: the virtual environment usd-core goes in (Debian's Python refuses pip
 # installs outside one).
-packages=(cmake ninja-build g++ pkg-config libassimp-dev libeigen3-dev libcli11-dev nlohmann-json3-dev catch2 libthrust-dev
-  assimp-testmodels python3 python3-venv)
+packages=(cmake ninja-build g++ pkg-config libassimp-dev libtinyobjloader-dev libtinygltf-dev libeigen3-dev libcli11-dev
+  nlohmann-json3-dev catch2 libthrust-dev assimp-testmodels python3 python3-venv)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

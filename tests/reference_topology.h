@@ -3,6 +3,7 @@
 #pragma once
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <cstdint>
@@ -134,6 +135,19 @@ inline MeshReport reference_validate_mesh(const Mesh& mesh) {
     if (halves.size() == 2 && half_start(halves[0]) == half_start(halves[1])) ++report.inconsistent_edges;
   }
 
+  // Faces of three distinct nodes whose node set another face has too.
+  std::map<std::array<index_t, 3>, int> faces_of_nodes;
+  auto sorted_nodes = [&](index_t f) {
+    std::array<index_t, 3> n{mesh.face_nodes[3 * f], mesh.face_nodes[3 * f + 1], mesh.face_nodes[3 * f + 2]};
+    std::sort(n.begin(), n.end());
+    return n;
+  };
+  for (index_t f = 0; f < mesh.face_count(); ++f) ++faces_of_nodes[sorted_nodes(f)];
+  for (index_t f = 0; f < mesh.face_count(); ++f) {
+    const auto n = sorted_nodes(f);
+    if (n[0] != n[1] && n[1] != n[2] && faces_of_nodes[n] > 1) ++report.duplicate_faces;
+  }
+
   // A node's distinct faces, joined when they are the two faces of an edge at the node; more
   // than one group is more than one fan.
   std::vector<std::vector<index_t>> two_face_edges_of_node(static_cast<std::size_t>(t.node_count));
@@ -207,7 +221,8 @@ inline std::string report_counts(const MeshReport& r) {
   std::ostringstream out;
   out << "indices_out_of_range " << r.indices_out_of_range << ", non_finite_nodes " << r.non_finite_nodes
       << ", degenerate_faces " << r.degenerate_faces << ", non_manifold_edges " << r.non_manifold_edges
-      << ", non_manifold_nodes " << r.non_manifold_nodes << ", inconsistent_edges " << r.inconsistent_edges;
+      << ", non_manifold_nodes " << r.non_manifold_nodes << ", inconsistent_edges " << r.inconsistent_edges
+      << ", duplicate_faces " << r.duplicate_faces;
   return out.str();
 }
 

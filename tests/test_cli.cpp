@@ -71,7 +71,7 @@ class TempDir {
 
 std::string quoted(const fs::path& path) { return "'" + path.string() + "'"; }
 
-/// A 2 x 2 grid of unit quads with UVs, as OBJ quads (assimp triangulates them).
+/// A 2 x 2 grid of unit quads with UVs, as OBJ quads (the reader triangulates them).
 const char* const grid_obj =
     "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 0 1 0\nv 1 1 0\nv 2 1 0\nv 0 2 0\nv 1 2 0\nv 2 2 0\n"
     "vt 0 0\nvt 0.5 0\nvt 1 0\nvt 0 0.5\nvt 0.5 0.5\nvt 1 0.5\nvt 0 1\nvt 0.5 1\nvt 1 1\n"
@@ -101,7 +101,7 @@ TEST_CASE("cli: info --json prints one object with the counts of an OBJ", "[cli]
   CHECK(j["file"] == mesh.string());
   CHECK(j["device"] == "cpu");
   CHECK_FALSE(j["device_name"].get<std::string>().empty());
-  CHECK(j["nodes"] == 9);  // welded: assimp splits nodes per corner
+  CHECK(j["nodes"] == 9);  // the v lines: every one is used
   CHECK(j["faces"] == 8);
   CHECK(j["edges"] == 16);
   CHECK(j["boundary_edges"] == 8);

@@ -103,7 +103,7 @@ TEST_CASE("cut physics: a hanging sheet cut across falls in two", "[physics]") {
                       "pins": [ { "box": { "min": [-1, 0.999, -1], "max": [2, 1.001, 1] } } ] } })",
                                                         "hanging_cut.json");
   REQUIRE(script.frames == settle_frames + fall_frames);
-  const tear::SimulationOptions options = tear::parse_simulation(script.simulation, script.path);
+  const tear::SimulationOptions options = script.simulation.value_or(tear::SimulationOptions{});
 
   tear::Cloth cloth(mesh, test_device());
   std::vector<float> before_cut;  // positions at the end of the last frame before the cut, on its mesh
@@ -226,7 +226,7 @@ TEST_CASE("cut physics: a long run with many cuts stays bounded", "[physics]") {
     extra.push_back(cut);
   }
   const tear::CutScript script = demo_with(extra);
-  const tear::SimulationOptions options = tear::parse_simulation(script.simulation, script.path);
+  const tear::SimulationOptions options = script.simulation.value_or(tear::SimulationOptions{});
   const double g = 9.81;
   REQUIRE(options.gravity[1] == -g);
   const tear::Mesh mesh = tear::make_demo_sheet(tear::DemoResolution::low);

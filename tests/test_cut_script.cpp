@@ -54,7 +54,7 @@ TEST_CASE("cut_script: the reference example parses to its values", "[script]") 
   CHECK(s.frames == 4);
   CHECK(s.snap == 0.15);
   CHECK(s.path == "shot.json");
-  CHECK(s.simulation.is_null());
+  CHECK_FALSE(s.simulation.has_value());
   REQUIRE(s.cuts.size() == 4);
 
   const tear::Cut& slit = s.cuts[0];
@@ -90,12 +90,12 @@ TEST_CASE("cut_script: the reference example parses to its values", "[script]") 
   CHECK(plane.normal == std::array<double, 3>{0, 1, 0});
 }
 
-TEST_CASE("cut_script: defaults, integral floats and the simulation object kept as written", "[script]") {
+TEST_CASE("cut_script: defaults, integral floats and the simulation block parsed with the script", "[script]") {
   SECTION("snap and cuts may be left out") {
     const auto s = tear::parse_cut_script(R"({"version": 1, "frames": 3})", "a.json");
     CHECK(s.snap == tear::default_snap);
     CHECK(s.cuts.empty());
-    CHECK(s.simulation.is_null());
+    CHECK_FALSE(s.simulation.has_value());
     CHECK(s.cuts_of_frame(1).empty());
   }
   SECTION("4.0 is the integer 4") {
@@ -103,13 +103,35 @@ TEST_CASE("cut_script: defaults, integral floats and the simulation object kept 
     CHECK(s.frames == 4);
     CHECK(s.snap == 0);
   }
-  SECTION("simulation is not interpreted") {
+  SECTION("simulation is read into its options, unknown keys refused") {
     const auto s = tear::parse_cut_script(
-        R"({"version": 1, "frames": 2, "simulation": {"gravity": [0, -9.81, 0], "anything": {"x": "y"}}})", "a.json");
-    REQUIRE(s.simulation.is_object());
-    CHECK(s.simulation["gravity"][1].get<double>() == -9.81);
-    CHECK(s.simulation["anything"]["x"] == "y");
+        R"({"version": 1, "frames": 2, "simulation": {"gravity": [0, -9.8, 0], "substeps": 2}})", "a.json");
+    REQUIRE(s.simulation.has_value());
+    CHECK(s.simulation->gravity == std::array<double, 3>{0, -9.8, 0});
+    CHECK(s.simulation->substeps == 2);
+    CHECK(s.simulation->iterations == 100);
+    CHECK(s.simulation->source == "a.json");
+    CHECK_THROWS_WITH(
+        tear::parse_cut_script(R"({"version": 1, "frames": 2, "simulation": {"anything": {"x": "y"}}})", "a.json"),
+        Catch::Contains("a.json: simulation.anything: unknown key"));
   }
+}
+
+TEST_CASE("cut_script: directions too long or too short to square are still directions", "[script]") {
+  // A blade along [0, 0, 1e-320] was refused as parallel to its own segments (the sine underflowed),
+  // and the squared length of [1e308, 1e308, 0] overflows.
+  const auto s = tear::parse_cut_script(with_cuts(R"(
+      {"frame": 1, "blade": {"polyline": [[0, 0, 0], [1, 0, 0]], "direction": [0, 0, 1e-320]}},
+      {"frame": 1, "blade": {"polyline": [[-1e308, 0, 0], [1e308, 0, 0]], "direction": [1e308, 1e308, 0]}},
+      {"frame": 2, "plane": {"point": [0, 0, 0], "normal": [1e308, 1e308, 0]}})"),
+                                        "a.json");
+  REQUIRE(s.cuts.size() == 3);
+  CHECK(s.cuts[0].direction == std::array<double, 3>{0, 0, 1e-320});
+  // Parallel is still parallel, whatever the scale.
+  CHECK_THROWS_WITH(tear::parse_cut_script(with_cuts(R"(
+      {"frame": 1, "blade": {"polyline": [[0, 0, 0], [0, 0, 1e-300]], "direction": [0, 0, 1e-320]}})"),
+                                           "a.json"),
+                    Catch::Contains("a.json: cuts[0].blade: every segment of the polyline is parallel"));
 }
 
 TEST_CASE("cut_script: cuts of one frame come together in script order", "[script]") {
@@ -146,13 +168,18 @@ TEST_CASE("cut_script: every error names the file and the exact key path", "[scr
       {R"({"version": 1, "frames": 1, "a b": 1})", R"(["a b"])", "unknown key"},
       {R"({"version": 1, "frames": 1, "version": 1})", "version", "duplicate key"},
       {R"({"version": 1, "frames": 1, "simulation": [1]})", "simulation", "expected an object"},
+      {R"({"version": 1, "frames": 1, "simulation": {"gravity": [0, -1e308, 0]}})", "simulation.gravity",
+       "expected a vector of length at most 10000"},
       // frames
-      {R"({"version": 1})", "frames", "missing (expected an integer >= 1)"},
-      {R"({"version": 1, "frames": 0})", "frames", "expected an integer >= 1, got 0"},
+      {R"({"version": 1})", "frames", "missing (expected an integer in 1..1000000)"},
+      {R"({"version": 1, "frames": 0})", "frames", "expected an integer in 1..1000000, got 0"},
       {R"({"version": 1, "frames": -3})", "frames", "got -3"},
       {R"({"version": 1, "frames": 2.5})", "frames", "got 2.5"},
-      {R"({"version": 1, "frames": 1e10})", "frames", "expected an integer >= 1"},
-      {R"({"version": 1, "frames": 18446744073709551615})", "frames", "expected an integer >= 1"},
+      {R"({"version": 1, "frames": 1e10})", "frames", "expected an integer in 1..1000000"},
+      {R"({"version": 1, "frames": 18446744073709551615})", "frames", "expected an integer in 1..1000000"},
+      // a billion frames (a run that would not end, and a billion files) is taken for a mistake
+      {R"({"version": 1, "frames": 1000000000})", "frames", "expected an integer in 1..1000000, got 1000000000"},
+      {R"({"version": 1, "frames": 1000001})", "frames", "got 1000001"},
       {R"({"version": 1, "frames": true})", "frames", "got true"},
       // snap
       {R"({"version": 1, "frames": 1, "snap": 0.5})", "snap", "expected a number in [0, 0.5), got 0.5"},

@@ -35,7 +35,8 @@ TEST_CASE("demo_script: six cuts a third of a second apart, the top edge pinned"
     CHECK(script.cuts[i].frame == 4 + 8 * int(i));
     CHECK(script.cuts[i].space == tear::CutSpace::rest_xy);
   }
-  const tear::SimulationOptions options = tear::parse_simulation(script.simulation, script.path);
+  REQUIRE(script.simulation.has_value());
+  const tear::SimulationOptions& options = *script.simulation;
   CHECK(options.fps == 24);
   CHECK(options.gravity == std::array<double, 3>{0, -9.81, 0});
   CHECK(options.iterations == tear::SimulationOptions().iterations);

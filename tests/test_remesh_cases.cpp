@@ -470,6 +470,25 @@ TEST_CASE("remesh cases: a world-space blade and a plane", "[remesh]") {
       CHECK(info.boundary_loops == 2);
       check_uv_is_xy(c.cloth.mesh());
     }
+    SECTION("directions too long or too short to square cut as their unit vectors do") {
+      // [1e308, 1e308, 0] squared overflows and [0, 0, 1e-320] underflows: both once cut nothing.
+      tear::Cut plane, huge, blade, tiny;
+      plane.kind = huge.kind = CutKind::plane;
+      plane.point = huge.point = {0.5, 0.5, 0.0};
+      plane.normal = {1, 1, 0};
+      huge.normal = {1e308, 1e308, 0};
+      blade.kind = tiny.kind = CutKind::blade;
+      blade.polyline3 = tiny.polyline3 = {{-0.1, 0.47, 0.3}, {1.1, 0.56, 0.1}};
+      blade.direction = {0, 0, 1};
+      tiny.direction = {0, 0, 1e-320};
+      for (const auto& [unit, extreme] : {std::pair{plane, huge}, std::pair{blade, tiny}}) {
+        Run a(s.mesh), b(s.mesh);
+        const MeshInfo info = a.frame({to_cut_line(unit)});
+        b.frame({to_cut_line(extreme)});
+        CHECK(info.components == 2);
+        check_same_mesh(b.cloth.mesh(), a.cloth.mesh());
+      }
+    }
     SECTION("a plane parallel to the sheet misses it") {
       tear::Cut plane;
       plane.kind = CutKind::plane;

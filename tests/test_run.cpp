@@ -363,3 +363,18 @@ TEST_CASE("validate: a bad script, a script the mesh cannot take, a mesh that ca
   check_refused(fixture.dir.tear("validate --device cpu " + quoted(far_pin) + " " + quoted(fixture.mesh)), 2,
                 "far_pin.json: simulation.pins[0]", fixture.out);
 }
+
+TEST_CASE("run: two faces on the same three nodes are refused before anything is written", "[run]") {
+  // Closed, consistently oriented, manifold: it passed every other check, and the cut left bow-ties.
+  RunFixture fixture;
+  fixture.dir.file("sheet.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 3\nf 1 3 2\n");
+  fixture.dir.file("script.json",
+                   R"({ "version": 1, "frames": 1,
+           "cuts": [ { "frame": 1, "space": "rest-xy", "polyline": [[-1, 0.3], [2, 0.3]] } ] })");
+  const Run run = fixture.run_into(fixture.out);
+  check_refused(run, 2, "sheet.obj: cannot be cut: 2 faces on the same three nodes as another face", fixture.out);
+  const Run info = fixture.dir.tear("info --device cpu " + quoted(fixture.mesh));
+  CHECK(info.exit_code == 0);
+  CHECK(info.out.find("duplicate faces:      2 (on the same three nodes as another face)") != std::string::npos);
+  CHECK(info.out.find("cuttable:             no: 2 faces on the same three nodes") != std::string::npos);
+}

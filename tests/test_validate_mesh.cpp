@@ -228,6 +228,37 @@ TEST_CASE("validate_mesh: inconsistently oriented faces", "[validate]") {
   CHECK(mentions(closed, "3 edges with inconsistently oriented faces"));
 }
 
+TEST_CASE("validate_mesh: faces on the same three nodes", "[validate]") {
+  // Two faces on one triangle, oppositely oriented: closed, consistently oriented and manifold, but a
+  // cut through it leaves the two faces joined at the cut's ends (bow-ties), so it is refused.
+  const auto pillow = make_mesh({0, 0, 0, 1, 0, 0, 0, 1, 0}, {0, 1, 2, 0, 2, 1});
+  const tear::MeshReport report = validate(pillow);
+  tear::MeshReport expected;
+  expected.duplicate_faces = 2;
+  CHECK(tear::test::report_counts(report) == tear::test::report_counts(expected));
+  CHECK_FALSE(report.ok());
+  CHECK(mentions(report, "2 faces on the same three nodes as another face"));
+  CHECK(tear::test::report_counts(tear::test::reference_validate_mesh(pillow)) == tear::test::report_counts(expected));
+
+  // The same pair as a component of its own beside a good quad, and nodes listed in another order.
+  const auto beside = make_mesh({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 5, 0, 0, 6, 0, 0, 5, 1, 0},
+                                {0, 1, 2, 0, 2, 3, 4, 5, 6, 5, 4, 6});
+  CHECK(validate(beside).duplicate_faces == 2);
+  CHECK(validate(beside).non_manifold_nodes == 0);
+
+  // A quad with one face repeated the other way round: also a fin on each of the face's edges.
+  auto doubled = quad();
+  doubled.face_nodes.insert(doubled.face_nodes.end(), {0, 2, 1});
+  const tear::MeshReport fins = validate(doubled);
+  CHECK(fins.duplicate_faces == 2);
+  CHECK(fins.non_manifold_edges == 1);
+  CHECK(tear::test::report_counts(fins) == tear::test::report_counts(tear::test::reference_validate_mesh(doubled)));
+
+  // Closed surfaces of distinct faces are fine, and a face repeating a node is only degenerate.
+  CHECK(validate(tetrahedron()).duplicate_faces == 0);
+  CHECK(validate(make_mesh({0, 0, 0, 1, 0, 0}, {0, 0, 1, 0, 1, 0})).duplicate_faces == 0);
+}
+
 TEST_CASE("validate_mesh: describe names every non-zero count", "[validate]") {
   tear::MeshReport report;
   report.indices_out_of_range = 1;
@@ -236,10 +267,12 @@ TEST_CASE("validate_mesh: describe names every non-zero count", "[validate]") {
   report.non_manifold_edges = 4;
   report.non_manifold_nodes = 5;
   report.inconsistent_edges = 6;
+  report.duplicate_faces = 7;
   const std::string text = report.describe();
   for (const char* part :
        {"1 face with a node index out of range", "2 nodes with a non-finite coordinate", "3 degenerate faces",
-        "4 non-manifold edges", "5 non-manifold (bow-tie) nodes", "6 edges with inconsistently oriented faces"}) {
+        "4 non-manifold edges", "5 non-manifold (bow-tie) nodes", "6 edges with inconsistently oriented faces",
+        "7 faces on the same three nodes as another face"}) {
     INFO(part);
     CHECK(text.find(part) != std::string::npos);
   }

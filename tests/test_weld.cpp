@@ -173,3 +173,47 @@ TEST_CASE("weld_nodes: a mesh split per corner and shuffled welds back to the sa
     }
   }
 }
+
+TEST_CASE("weld_nodes_by_id: same id one node, nodes in ascending id, whatever the positions", "[weld]") {
+  tear::Mesh mesh = split_quad(0.25f);  // the copies of the shared edge are 0.25 apart
+  mesh.node_vel = {0, 0, 0, 1, 0, 0, 2, 0, 0, 3, 0, 0, 4, 0, 0, 5, 0, 0};
+  mesh.node_origin_face = {0, 0, 0, 1, 1, 1};
+  mesh.node_origin_bary = {0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0};
+  // Vertices 1 and 3 are one node (id 1), 2 and 5 another (id 0); id 7 is a gap.
+  tear::weld_nodes_by_id(mesh, {3, 1, 0, 1, 7, 0});
+  CHECK(mesh.node_count() == 4);
+  CHECK(mesh.face_nodes == std::vector<tear::index_t>{2, 1, 0, 1, 3, 0});
+  // Each node takes its lowest-index vertex's values.
+  CHECK(mesh.node_pos == std::vector<float>{0, 1, 0, 1, 0, 0, 0, 0, 0, 1, 1, 0});
+  CHECK(mesh.node_vel == std::vector<float>{2, 0, 0, 1, 0, 0, 0, 0, 0, 4, 0, 0});
+  CHECK(mesh.node_origin_face == std::vector<tear::index_t>{0, 0, 0, 1});
+  CHECK(mesh.node_origin_bary == std::vector<float>{0, 1, 1, 0, 0, 0, 0, 1});
+
+  tear::Mesh bad = split_quad(0.0f);
+  CHECK_THROWS_AS(tear::weld_nodes_by_id(bad, {0, 1, 2}), tear::Error);
+  CHECK_THROWS_AS(tear::weld_nodes_by_id(bad, {0, 1, 2, 3, -1, 5}), tear::Error);
+}
+
+TEST_CASE("weld_nodes: torn edges follow their nodes and stay only on the boundary", "[weld]") {
+  // Torn along the shared edge: both copies of it are boundary edges marked torn.
+  tear::Mesh mesh = split_quad(0.0f);
+  mesh.torn_edge_nodes = {1, 2, 3, 5};
+  tear::Mesh kept = mesh;
+  tear::drop_unused_nodes(kept);
+  CHECK(kept.torn_edge_nodes == std::vector<tear::index_t>{1, 2, 3, 5});
+  // Welding by position closes the tear: the edge is inside again and is no longer torn.
+  tear::weld_nodes(mesh, 0.0);
+  CHECK(mesh.node_count() == 4);
+  CHECK(mesh.torn_edge_nodes.empty());
+}
+
+TEST_CASE("drop_unused_nodes: welds nothing, keeps order, drops what no face uses", "[weld]") {
+  tear::Mesh mesh;
+  mesh.node_pos = {9, 9, 9, 0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0};
+  mesh.face_nodes = {1, 2, 3, 4, 2, 3, 1, 1, 2};  // the last face repeats a node
+  mesh.node_vel = {9, 9, 9, 1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4};
+  tear::drop_unused_nodes(mesh);
+  CHECK(mesh.node_pos == std::vector<float>{0, 0, 0, 1, 0, 0, 0, 1, 0, 0, 0, 0});
+  CHECK(mesh.face_nodes == std::vector<tear::index_t>{0, 1, 2, 3, 1, 2});
+  CHECK(mesh.node_vel == std::vector<float>{1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4});
+}

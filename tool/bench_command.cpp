@@ -3,9 +3,12 @@
 #include <string>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 #include "commands.h"
 #include "tear/bench.h"
 #include "tear/error.h"
+#include "tear/output_files.h"
 #include "tear/write_mesh.h"
 
 namespace tear::cli {
@@ -57,10 +60,10 @@ nlohmann::json run_sizes(const BenchOptions& options, Device device, bool with_c
     BenchOptions one = options;
     one.face_counts = {faces};
     const auto row = run(one, device);
-    rows.push_back(to_json(row));
+    rows.push_back(nlohmann::json::parse(to_json(row)));
     if (with_cpu) {
       const auto cpu = run(one, Device::cpu);
-      rows.push_back(to_json(cpu));
+      rows.push_back(nlohmann::json::parse(to_json(cpu)));
       print(cpu, nullptr);
       print(row, &cpu);
     } else {
@@ -99,6 +102,11 @@ void run_bench(const BenchArgs& args) {
       }
     }
   }
+  // Everything that can be refused is, before the first line of a table: the sizes, and that the
+  // JSON file can be written.
+  check_bench_options(options);
+  check_output_files({}, nullptr, 0, {{"the JSON output", args.json_path}});
+  if (!args.json_path.empty()) remove_stale_temporaries({args.json_path});
   std::printf("tear bench on %s%s; medians of %d runs after %d untimed, milliseconds\n", device_name(device).c_str(),
               with_cpu ? (" and " + device_name(Device::cpu)).c_str() : "", options.repeats, options.warmup);
   nlohmann::json doc = {{"device_name", device_name(device)},
@@ -153,10 +161,10 @@ void run_bench(const BenchArgs& args) {
     for (std::size_t i = 0; i < gpu.size(); ++i) {
       if (with_cpu) {
         print_scene_row(cpu[i], nullptr);
-        rows.push_back(to_json(cpu[i]));
+        rows.push_back(nlohmann::json::parse(to_json(cpu[i])));
       }
       print_scene_row(gpu[i], with_cpu ? &cpu[i] : nullptr);
-      rows.push_back(to_json(gpu[i]));
+      rows.push_back(nlohmann::json::parse(to_json(gpu[i])));
     }
     doc["scene"] = rows;
   }

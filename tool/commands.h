@@ -6,10 +6,12 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "tear/device.h"
+#include "tear/frame_path.h"
 #include "tear/mesh.h"
 #include "tear/read_mesh.h"
 
@@ -38,12 +40,18 @@ CLI::Option* add_device_option(CLI::App& command, std::string& spec);
 /// Adds `--start-frame N` (an integer >= 0; default: what `start_frame` holds) to `command`.
 CLI::Option* add_start_frame_option(CLI::App& command, int& start_frame);
 
-/// Adds `--mesh-name NAME` and `--weld-tolerance T` (finite, >= 0) to `command`, stored in `options`.
+/// Adds `--mesh-name NAME`, `--weld-tolerance T` (finite, >= 0) and `--no-weld` to `command`, stored
+/// in `options`.
 void add_read_options(CLI::App& command, ReadOptions& options);
 
 /// Reads the mesh at `path` and checks its indices and coordinates on `device`: a face index out of
 /// range or a non-finite coordinate throws an input `Error` naming the file and the counts, so that
 /// what is returned can go to `build_topology`.
 Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Device device);
+
+/// The files a run writes: the `frame_count` frames of `pattern` numbered from `first_number`, then
+/// the report when there is one.
+std::vector<std::string> output_paths(const FramePattern& pattern, int frame_count, const std::string& report_path,
+                                      int first_number = 1);
 
 }  // namespace tear::cli

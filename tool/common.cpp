@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <string>
+#include <vector>
 
 #include "commands.h"
 #include "tear/error.h"
@@ -70,6 +71,11 @@ void add_read_options(CLI::App& command, ReadOptions& options) {
       ->type_name("T")
       ->check(CLI::Validator(check_finite_non_negative, ""))
       ->capture_default_str();
+  command.add_flag_callback(
+      "--no-weld", [&options] { options.weld = false; },
+      "Weld nothing: every vertex of the file that a face uses is a node of its own, so a frame written as "
+      "OBJ reads back with its tears open (docs/io.md). By default vertices are welded by id in tear's own "
+      "PLY and glTF files, by position in others");
 }
 
 Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Device device) {
@@ -79,6 +85,15 @@ Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Devi
     throw input_error(path, report.describe() + " (the mesh has " + plural(mesh.node_count(), "node", "nodes") +
                                 " and " + plural(mesh.face_count(), "face", "faces") + ")");
   return mesh;
+}
+
+std::vector<std::string> output_paths(const FramePattern& pattern, int frame_count, const std::string& report_path,
+                                      int first_number) {
+  std::vector<std::string> paths;
+  for (int frame = first_number; frame < first_number + (pattern.has_frame_number() ? frame_count : 1); ++frame)
+    paths.push_back(pattern.path(frame));
+  if (!report_path.empty()) paths.push_back(report_path);
+  return paths;
 }
 
 }  // namespace tear::cli

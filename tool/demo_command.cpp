@@ -8,10 +8,12 @@
 #include <string>
 
 #include "commands.h"
+#include "farm.h"
 #include "progress.h"
 #include "tear/demo_scene.h"
 #include "tear/error.h"
 #include "tear/frame_path.h"
+#include "tear/output_files.h"
 #include "tear/run_cuts.h"
 
 namespace tear::cli {
@@ -24,6 +26,7 @@ struct DemoCommandOptions {
   std::string device = "auto";
   std::string report_path;
   int frames = demo_frames;
+  FarmOptions farm;
   int start_frame = 1;
 };
 
@@ -55,9 +58,18 @@ void run_demo(const DemoCommandOptions& options) {
   run.device = device;
   run.report_path = options.report_path;
   const std::string mesh_name = "(demo sheet, " + std::string(to_string(resolution)) + " resolution)";
-  ProgressBar progress(options.frames);
+  const FramePattern frames(run.output_pattern);
+  frames.check(options.frames, options.start_frame);
+  check_output_files({}, &frames, options.frames,
+                     {{"the report", options.report_path}, {"the checkpoint", options.farm.checkpoint_path}},
+                     options.start_frame);
+  std::vector<std::string> outputs = output_paths(frames, options.frames, options.report_path, options.start_frame);
+  if (!options.farm.checkpoint_path.empty()) outputs.push_back(options.farm.checkpoint_path);
+  remove_stale_temporaries(outputs);
+  apply_farm_options(options.farm, run);
+  FrameProgress progress(options.farm.progress, options.frames);
   run.on_frame = [&](const FrameResult& frame, const Cloth&) {
-    progress.update(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
+    progress.frame(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
   };
   const RunSummary summary = run_to_files(sheet, mesh_name, script, run);
   progress.finish();
@@ -97,6 +109,7 @@ void add_demo_command(CLI::App& app) {
   command->add_option("--frames", options->frames)->check(CLI::Range(1, demo_frames))->group("");
   add_start_frame_option(*command, options->start_frame);
   add_device_option(*command, options->device);
+  add_farm_options(*command, options->farm);
   command->callback([options] { run_demo(*options); });
 }
 

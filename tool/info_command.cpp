@@ -64,13 +64,22 @@ void print_human(std::ostream& out, const std::string& path, Device device, cons
       {"bow-tie nodes", count_why(info.non_manifold_nodes, "faces around the node form several fans")},
       {"degenerate faces", count_why(info.degenerate_faces, "repeated node or zero area")},
       {"inconsistent edges", count_why(info.inconsistent_edges, "neighbouring faces of opposite orientation")},
+      {"duplicate faces", count_why(info.duplicate_faces, "on the same three nodes as another face")},
       {"area", format_number(info.area)},
       {"min angle", info.faces ? format_number(info.min_angle_deg) + " deg" : "n/a"},
+      {"sliver faces", info.sliver_faces ? std::to_string(info.sliver_faces) + " (an angle under " +
+                                               format_number(sliver_angle_deg) +
+                                               " deg: cuts near them make thinner slivers still)"
+                                         : "0"},
       {"uvs", yes_no(info.has_uv)},
       {"normals", yes_no(info.has_normals)},
       {"bbox min", format_point(info.bbox_min)},
       {"bbox max", format_point(info.bbox_max)},
-      {"cuttable", report.ok() ? "yes" : "no: " + report.describe()},
+      {"cuttable", !report.ok()          ? "no: " + report.describe()
+                   : info.sliver_faces ? "yes, with " + std::to_string(info.sliver_faces) +
+                                             (info.sliver_faces == 1 ? " sliver face" : " sliver faces") +
+                                             " (warning: see above)"
+                                       : "yes"},
   };
   std::size_t width = 0;
   for (const auto& row : rows) width = std::max(width, row.first.size());
@@ -86,7 +95,7 @@ void run_info(const InfoOptions& options) {
   const MeshInfo info = compute_mesh_info(mesh, topology, report);
 
   if (options.json) {
-    nlohmann::json j = to_json(info);
+    nlohmann::json j = nlohmann::json::parse(to_json(info));
     j["file"] = options.mesh_path;
     j["device"] = to_string(device);
     j["device_name"] = device_name(device);
@@ -105,9 +114,9 @@ void add_info_command(CLI::App& app) {
   auto options = std::make_shared<InfoOptions>();
   CLI::App* command = app.add_subcommand("info", "Print the counts, boundary loops, components and defects of a mesh");
   command->footer(
-      "Defects (non-manifold edges, bow-tie nodes, degenerate faces, inconsistent orientation) are reported, not "
-      "refused. A face index out of range or a non-finite coordinate is bad input (exit 2). Exit codes: 0 ok, 1 "
-      "usage error, 2 bad input, 3 runtime failure.");
+      "Defects (non-manifold edges, bow-tie nodes, degenerate faces, inconsistent orientation, duplicate faces) are "
+      "reported, not refused. A face index out of range or a non-finite coordinate is bad input (exit 2). Exit "
+      "codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure.");
   command->add_option("MESH", options->mesh_path, "Mesh file: OBJ, glTF, GLB, PLY or any format assimp reads")
       ->required()
       ->type_name("");

@@ -1,5 +1,5 @@
 // The `tear` command line: the app, its subcommands, and the one place where exceptions become
-// exit codes (0 ok, 1 usage, 2 bad input, 3 runtime failure) and one-line messages.
+// exit codes (0 ok, 1 usage, 2 bad input, 3 runtime failure, 4 interrupted) and one-line messages.
 #include <iostream>
 #include <new>
 #include <string>
@@ -38,7 +38,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "tear " TEAR_VERSION, "Print the version and exit");
   app.require_subcommand(1);
   app.footer(
-      "Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure. Run 'tear COMMAND --help' for "
+      "Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure, 4 stopped (resumable). Run 'tear COMMAND --help' for "
       "the options of a command; docs/cli.md describes them all.");
 
   tear::cli::add_info_command(app);

@@ -8,10 +8,12 @@
 #include <string>
 
 #include "commands.h"
+#include "farm.h"
 #include "progress.h"
 #include "tear/cut_script.h"
 #include "tear/error.h"
 #include "tear/frame_path.h"
+#include "tear/output_files.h"
 #include "tear/run_cuts.h"
 #include "tear/usd_layer.h"
 
@@ -32,6 +34,7 @@ struct RunCommandOptions {
   double meters_per_unit = 1;
   bool usd_metadata_given = false;  // --up-axis or --meters-per-unit on the command line
   bool verbose = false;
+  FarmOptions farm;
 };
 
 /// CLI11's PositiveNumber message quotes the largest double; say what is expected instead.
@@ -56,8 +59,11 @@ std::string check_finite_positive(const std::string& text) {
 /// `frame N/LAST: ...`: the frame's number and the last frame's, as the files are numbered.
 void print_frame(const FrameResult& frame, int last_frame) {
   const CutStats& s = frame.stats;
+  // Cuts that split nothing (they missed the cloth, or retraced a tear) are said to have done so.
+  const bool changed = s.nodes_after != s.nodes_before || s.faces_after != s.faces_before;
   std::cout << "frame " << frame.output_frame << '/' << last_frame << ": " << frame.cut_count
-            << (frame.cut_count == 1 ? " cut, " : " cuts, ") << s.nodes_before << " -> " << s.nodes_after << " nodes, "
+            << (frame.cut_count == 1 ? " cut" : " cuts") << (frame.cut_count > 0 && !changed ? " (changed nothing), " : ", ")
+            << s.nodes_before << " -> " << s.nodes_after << " nodes, "
             << s.faces_before << " -> " << s.faces_after << " faces, " << frame.path << std::endl;
   if (!std::cout) throw runtime_error("cannot write to standard output");
 }
@@ -86,15 +92,31 @@ void run_run(const RunCommandOptions& options) {
   if (frame_count > script.frames)
     throw Error(ErrorKind::usage, options.script_path + ": --frames " + std::to_string(frame_count) +
                                       " is more than the script's " + std::to_string(script.frames) + " frames");
-  ProgressBar progress(frame_count);
+  // Every check of the inputs (run_to_files repeats them), then the outputs: none may be an input,
+  // and every folder must be writable, before anything is written.
+  const FramePattern pattern(options.output_pattern);
+  pattern.check(frame_count, options.start_frame);
+  check_run_inputs(script, mesh, options.mesh_path, device);
+  check_output_files({{"mesh", options.mesh_path}, {"script", options.script_path}}, &pattern, frame_count,
+                     {{"the report", options.report_path}, {"the checkpoint", options.farm.checkpoint_path}},
+                     options.start_frame);
+  std::vector<std::string> outputs = output_paths(pattern, frame_count, options.report_path, options.start_frame);
+  if (!options.farm.checkpoint_path.empty()) outputs.push_back(options.farm.checkpoint_path);
+  remove_stale_temporaries(outputs);
+  // What changes results besides the mesh, the script and the device, for the checkpoint's digest.
+  run.result_options = "mesh-name=" + options.read.mesh_name + ";weld-tolerance=" + std::to_string(options.read.weld_tolerance) +
+                       ";weld=" + (options.read.weld ? "1" : "0");
+  apply_farm_options(options.farm, run);
+  FrameProgress progress(options.farm.progress, frame_count);
   run.on_frame = [&](const FrameResult& frame, const Cloth&) {
     if (options.verbose) {
       progress.finish();
       print_frame(frame, options.start_frame + frame_count - 1);
     }
-    progress.update(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
+    progress.frame(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
   };
   run_to_files(mesh, options.mesh_path, script, run);
+  progress.finish();
 }
 
 }  // namespace
@@ -108,7 +130,7 @@ void add_run_command(CLI::App& app) {
       "name of a single-frame run, or, for .usda/.usd, one USD layer holding every frame as a time sample. The "
       "extension picks the format: .obj, .ply, .gltf, .glb, or .usda/.usd (USDA text). Folders are created. "
       "Everything is checked before the first file is written: the mesh must be cuttable (see 'tear info'). "
-      "Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure.");
+      "Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure, 4 stopped by SIGTERM/SIGINT (resumable).");
   command->add_option("MESH", options->mesh_path, "Mesh file: OBJ, glTF, GLB, PLY or any format assimp reads")
       ->required()
       ->type_name("");
@@ -143,6 +165,7 @@ void add_run_command(CLI::App& app) {
           ->capture_default_str();
   add_device_option(*command, options->device);
   add_read_options(*command, options->read);
+  add_farm_options(*command, options->farm);
   command->callback([options, up_axis, meters_per_unit] {
     options->usd_metadata_given = up_axis->count() > 0 || meters_per_unit->count() > 0;
     run_run(*options);

@@ -5,9 +5,9 @@
 
 #include "commands.h"
 #include "tear/cut_script.h"
-#include "tear/simulation.h"
 #include "tear/error.h"
 #include "tear/run_cuts.h"
+#include "tear/script_warnings.h"
 
 namespace tear::cli {
 
@@ -28,10 +28,12 @@ std::string plural(std::size_t n, const char* one, const char* many) {
 void run_validate(const ValidateOptions& options) {
   const Device device = select_device(options.device);
   const CutScript script = read_cut_script(options.script_path);
-  if (!script.simulation.is_null()) parse_simulation(script.simulation, script.path);
   if (options.has_mesh) {
     const Mesh mesh = read_checked_mesh(options.mesh_path, options.read, device);
     check_run_inputs(script, mesh, options.mesh_path, device);
+    // Allowed, but probably not meant: said on standard error, and the script is still ok.
+    for (const std::string& warning : script_warnings(script, mesh, options.mesh_path, device))
+      std::cerr << "tear: warning: " << warning << '\n';
   }
   std::cout << options.script_path << ": ok (" << plural(script.cuts.size(), "cut", "cuts") << " over "
             << plural(static_cast<std::size_t>(script.frames), "frame", "frames") << ")" << std::endl;

@@ -6,8 +6,6 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "tear/cloth.h"
 #include "tear/demo_scene.h"
 #include "tear/device.h"
@@ -26,6 +24,16 @@ struct BenchOptions {
   /// Resolutions of the paper's scene (`run_scene_bench`).
   std::vector<DemoResolution> resolutions{DemoResolution::low, DemoResolution::medium, DemoResolution::high};
 };
+
+/// The most faces of a benchmark sheet: 2^28, within reach of the 32-bit node indices of a cut
+/// sheet with room to spare (and far beyond any memory the benchmark can fill).
+inline constexpr index_t max_bench_faces = index_t(1) << 28;
+
+/// Checks `options` before any benchmark runs, so that a bad size is refused before the first
+/// table line: every face count even, at least 2, not 6 (what `make_sheet` can tile) and at most
+/// `max_bench_faces`; repeats, warmup and iterations in the ranges of `tear bench`'s flags. Throws a
+/// usage `Error` naming the flag ("--faces 3: ...").
+void check_bench_options(const BenchOptions& options);
 
 /// One size on one backend. Times are medians over the repeats, milliseconds.
 struct BenchRow {
@@ -82,8 +90,9 @@ CutLine bench_cut(int segments);
 /// irregular sheet (`make_sheet`, seed 1) once; uploading the sheet is not timed.
 std::vector<BenchRow> run_remesh_bench(const BenchOptions& options, Device device);
 
-nlohmann::json to_json(const BenchRow& row);
-nlohmann::json to_json(const PdBenchRow& row);
-nlohmann::json to_json(const SceneBenchRow& row);
+/// One JSON object per row, on one line, with every field (for `tear bench --json`).
+std::string to_json(const BenchRow& row);
+std::string to_json(const PdBenchRow& row);
+std::string to_json(const SceneBenchRow& row);
 
 }  // namespace tear

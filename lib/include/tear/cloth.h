@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "tear/cut_script.h"
@@ -126,6 +127,13 @@ class Cloth {
   /// Replaces the positions and velocities, both [node_count * 3] (a usage `Error` otherwise), from
   /// the host; rest positions stay.
   void set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel);
+  /// Everything the cloth holds that a later run needs to go on bit-exactly (model, state, carried
+  /// attributes), as bytes: `load_state` on a cloth made from the same mesh and simulated with the
+  /// same options gives back the same cloth, on the same backend the same frames after it.
+  std::string save_state() const;
+  /// Replaces the cloth with a state `save_state` made; the simulation options (`simulate`) stay.
+  /// Throws an input `Error` naming `source` when the bytes are not a consistent cloth.
+  void load_state(const std::string& state, const std::string& source);
   /// Provenance of the last cut that split something (empty before the first).
   CutProvenance provenance() const;
 

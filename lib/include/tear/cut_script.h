@@ -2,12 +2,12 @@
 #pragma once
 
 #include <array>
+#include <optional>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
 #include "tear/mesh.h"
+#include "tear/simulation_options.h"
 
 namespace tear {
 
@@ -40,6 +40,10 @@ std::array<int, 2> rest_plane_axes(CutSpace space);
 /// fraction of its edge, which bounds how thin a split triangle can get (docs/cut-script.md).
 inline constexpr double default_snap = 0.2;
 
+/// The most frames a script may have: 11.5 hours at 24 fps, one file each. More is taken for a
+/// mistake (a run that would not end) and refused when the script is read.
+inline constexpr int max_frames = 1000000;
+
 /// A blade segment counts as parallel to the blade direction when the sine of the angle between
 /// them is at most this (zero-length segments count as parallel). Such segments sweep no area.
 inline constexpr double blade_parallel_sine = 1e-9;
@@ -60,10 +64,12 @@ struct Cut {
 /// A parsed, validated cut script.
 struct CutScript {
   int version = 1;
-  int frames = 1;              ///< number of frames of the run, >= 1
+  int frames = 1;              ///< number of frames of the run, in 1..max_frames
   double snap = default_snap;  ///< snap tolerance, fraction of an edge's length, in [0, 0.5)
   std::vector<Cut> cuts;       ///< in script order
-  nlohmann::json simulation;   ///< the `simulation` object as written (not validated here); null when absent
+  /// The `simulation` block, parsed and checked (every key within `simulation_limits`); empty when
+  /// the script has none (the cloth then does not move).
+  std::optional<SimulationOptions> simulation;
   std::string path;            ///< the file name used in messages
 
   /// The cuts applied at `frame`, in script order; they are applied together. The pointers are
@@ -71,7 +77,8 @@ struct CutScript {
   std::vector<const Cut*> cuts_of_frame(int frame) const;
 };
 
-/// Parses and validates a script held in memory. `path_for_messages` names it in errors.
+/// Parses and validates a script held in memory, its `simulation` block included.
+/// `path_for_messages` names it in errors (and becomes `SimulationOptions::source`).
 /// Throws `tear::Error` of kind input, with a one-line message
 /// `<path>: <key path>: <what was expected>` or, for JSON syntax, `<path>:<line>:<column>: syntax error: ...`.
 CutScript parse_cut_script(const std::string& text, const std::string& path_for_messages);

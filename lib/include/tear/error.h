@@ -11,6 +11,7 @@ enum class ErrorKind {
   usage = 1,    ///< the command line is wrong
   input = 2,    ///< a mesh, script or other input is missing, malformed or unusable
   runtime = 3,  ///< the input was fine but the run failed (device, disk, internal)
+  interrupted = 4,  ///< stopped by SIGTERM or SIGINT after a whole frame; resumable from its checkpoint
 };
 
 /// An error with a one-line message that names the file (and JSON key path) it concerns.

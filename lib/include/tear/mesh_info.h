@@ -3,14 +3,20 @@
 
 #include <array>
 #include <cstdint>
-
-#include <nlohmann/json.hpp>
+#include <string>
 
 #include "tear/mesh.h"
 #include "tear/topology.h"
 #include "tear/validate_mesh.h"
 
 namespace tear {
+
+/// A face that is not degenerate but has an angle under this many degrees is a sliver: its height
+/// is under 1/57 of its longest edge. It can be cut, but a cut near it makes thinner slivers still
+/// (the snap rules keep what the remesher makes above 5 degrees only where the input was) and the
+/// solver's bending weights grow with one over its height. Triangulated n-gons (Blender's fill)
+/// make them; `tear info` and `tear validate` warn about them.
+inline constexpr double sliver_angle_deg = 1.0;
 
 /// Counts and measures of one mesh. Every count is a plain number of elements; nothing is -1.
 struct MeshInfo {
@@ -30,12 +36,15 @@ struct MeshInfo {
   std::int64_t non_manifold_nodes = 0;    ///< bow-tie nodes: more than one fan of faces (from MeshReport)
   std::int64_t degenerate_faces = 0;      ///< repeated node or (numerically) zero area (from MeshReport)
   std::int64_t inconsistent_edges = 0;    ///< two-face edges with opposite orientations (from MeshReport)
+  std::int64_t duplicate_faces = 0;       ///< faces on the same three nodes as another face (from MeshReport)
   double area = 0.0;                      ///< sum of the triangle areas, square metres (double sums)
   bool has_uv = false;
   bool has_normals = false;
   /// Smallest interior angle, degrees, over the faces that are not degenerate (same criterion as
   /// `validate_mesh`); NaN when there is no such face.
   double min_angle_deg = 0.0;
+  /// Faces that are not degenerate with an angle under `sliver_angle_deg` (a warning, not a defect).
+  std::int64_t sliver_faces = 0;
   /// Axis-aligned bounding box of all nodes, metres; NaN when the mesh has no node.
   std::array<double, 3> bbox_min{};
   std::array<double, 3> bbox_max{};
@@ -47,10 +56,11 @@ struct MeshInfo {
 /// area, angles and box non-finite too.
 MeshInfo compute_mesh_info(const Mesh& mesh, const Topology& topology, const MeshReport& report);
 
-/// The keys `nodes`, `faces`, `edges`, `boundary_edges`, `boundary_loops`, `components`,
+/// One JSON object, on one line, with the keys `nodes`, `faces`, `edges`, `boundary_edges`, `boundary_loops`, `components`,
 /// `euler_characteristic`, `non_manifold_edges`, `non_manifold_nodes`, `degenerate_faces`,
-/// `inconsistent_edges`, `area`, `has_uv`, `has_normals`, `min_angle_deg` (null when NaN),
+/// `inconsistent_edges`, `duplicate_faces`, `sliver_faces`, `area`, `has_uv`, `has_normals`, `min_angle_deg` (null when NaN),
 /// `bbox_min`, `bbox_max` ([x, y, z], null when the mesh has no node).
-nlohmann::json to_json(const MeshInfo& info);
+/// Keys in alphabetical order.
+std::string to_json(const MeshInfo& info);
 
 }  // namespace tear

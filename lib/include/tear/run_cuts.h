@@ -1,6 +1,7 @@
 // tear: the frame loop of a run: a script's cuts applied frame by frame, each frame written out.
 #pragma once
 
+#include <csignal>
 #include <functional>
 #include <string>
 #include <vector>
@@ -15,12 +16,12 @@ namespace tear {
 
 /// Throws an input `Error` "<mesh_path>: cannot be cut: <what is wrong>" unless `mesh` passes every
 /// check of `validate_mesh` (indices in range, finite coordinates, no degenerate face, no
-/// non-manifold edge, no bow-tie node, consistent orientation): the remesher needs an oriented
-/// manifold.
+/// non-manifold edge, no bow-tie node, consistent orientation, no two faces on the same three
+/// nodes): the remesher needs an oriented manifold that a cut can split.
 void check_cuttable(const Mesh& mesh, const std::string& mesh_path, Device device);
 
 /// Every check of a run that needs no output: `check_script_against_mesh`, `check_cuttable`, and
-/// the script's `simulation` block (`parse_simulation`, node pins within the mesh).
+/// the node pins of the script's `simulation` block within the mesh.
 void check_run_inputs(const CutScript& script, const Mesh& mesh, const std::string& mesh_path, Device device);
 
 /// What one frame of a run did.
@@ -49,7 +50,11 @@ using FrameCallback = std::function<void(const FrameResult&, const Cloth&)>;
 /// name nodes of `cloth` as given and are carried through the cuts) and every frame then advances
 /// the cloth by one frame (1/fps s, `Cloth::step`) on its backend. A state that is no longer finite
 /// stops the run with a runtime `Error` naming the script and the frame, before `on_frame`.
-void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame);
+///
+/// `first_frame` > 1 goes on from a cloth that already went through frames 1..first_frame-1 (a
+/// resumed run: `Cloth::load_state`); a cloth already simulated keeps its simulation.
+void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame,
+              int first_frame = 1);
 
 /// Per-corner normals [face_count * 9] of `mesh` at its current positions: at each corner, the
 /// area-weighted average of the normals of the faces around the corner's node, normalised. A torn
@@ -80,6 +85,19 @@ struct RunOptions {
   /// When not empty, a JSON report of the run (docs/cli.md, `--report`) is written there
   /// atomically once the last frame is written.
   std::string report_path;
+  /// When not empty, a checkpoint (tear/checkpoint.h) is written there atomically after every
+  /// `checkpoint_every`-th frame, after the last one, and when the run is stopped.
+  std::string checkpoint_path;
+  int checkpoint_every = 1;
+  /// With `checkpoint_path`: when the checkpoint exists, go on after its frame (an input `Error`
+  /// when it was made from other inputs, or is damaged); when it does not, start from frame 1.
+  bool resume = false;
+  /// The options that change results besides the mesh, the script and the device, spelled out
+  /// ("name=value;..."), so that a checkpoint made with others is refused.
+  std::string result_options;
+  /// Checked after each frame is written: once it is set (by a signal handler), the run writes its
+  /// checkpoint and stops with an `Error` of kind `interrupted`.
+  const volatile std::sig_atomic_t* stop = nullptr;
 };
 
 /// What `run_to_files` did, for a summary line.

@@ -19,13 +19,17 @@ struct MeshReport {
   std::int64_t non_manifold_edges = 0;    ///< edges with more than two faces
   std::int64_t non_manifold_nodes = 0;    ///< nodes whose faces form more than one fan (bow-ties)
   std::int64_t inconsistent_edges = 0;    ///< two-face edges whose faces disagree on orientation
+  /// Faces on the same three (distinct) nodes as another face, in any order: two oppositely
+  /// oriented ones pass the other checks but close a surface of no volume, which no cut can split
+  /// into a manifold (its ends stay joined: bow-ties).
+  std::int64_t duplicate_faces = 0;
 
   /// No index out of range and no non-finite coordinate: topology and statistics can be computed.
   bool readable() const { return indices_out_of_range == 0 && non_finite_nodes == 0; }
   /// Nothing wrong at all.
   bool ok() const {
     return readable() && degenerate_faces == 0 && non_manifold_edges == 0 && non_manifold_nodes == 0 &&
-           inconsistent_edges == 0;
+           inconsistent_edges == 0 && duplicate_faces == 0;
   }
   /// One line naming every non-zero count, e.g. "3 non-manifold edges, 1 bow-tie node".
   std::string describe() const;

@@ -21,18 +21,26 @@ MeshFormat format_from_path(const std::string& path);
 ///   `vn` deduplicated by exact value in order of first use, and `f v/vt/vn` per face (`f v//vn`,
 ///   `f v/vt` or `f v` when UVs or normals are missing). No .mtl file. Floats are printed with
 ///   `%.9g` (they read back to the same float), except magnitudes below 1e-4, printed in fixed
-///   notation with 15 decimals when that reads back to the same float: assimp's OBJ parser
-///   rounds numbers with an exponent inexactly, fixed notation it reads exactly (below about 1e-7
-///   15 decimals are too few and `%.9g` is kept).
-/// - PLY: binary little endian. assimp 5.2 does not read per-face `texcoord` lists back per
-///   corner, so nodes are split: one PLY vertex per distinct (node, UV, normal) in order of first
-///   use, with `x y z`, then `nx ny nz` and `s t` when the mesh has them; faces are
-///   `vertex_indices` lists. Reading it back welds the split vertices into the same nodes.
+///   notation with 15 decimals when that reads back to the same float: fast OBJ parsers
+///   (assimp's among them) round numbers with an exponent inexactly, fixed notation they read
+///   exactly (below about 1e-7 15 decimals are too few and `%.9g` is kept).
+/// - PLY and glTF/GLB have no per-corner indices, so nodes whose corners disagree on UV or normal
+///   are split (docs/io.md): vertex `i` is node `i` for every `i < node_count`, with the UV and
+///   normal of the node's first corner; each other distinct (UV, normal) of a node gets a vertex
+///   after all the nodes, in the order of the corners that first use it. Attributes are compared
+///   as numbers (-0 == +0), so equal ones never split a node. A node no face uses gets UV (0, 0)
+///   and normal (0, 0, 0).
+/// - PLY: binary little endian, vertex properties `x y z`, then `nx ny nz` and `s t` when the mesh
+///   has them, then identity: `id` (int, the node), `vx vy vz` (float, m/s; 0 when the mesh has no
+///   velocities), `origin_face` (int, -1 when unknown), `origin_u origin_v` (float, 0 when
+///   unknown); faces are `vertex_indices` lists; an `edge` element (`vertex1 vertex2`, int) lists
+///   `torn_edge_nodes` when there are any. Reading it back welds by `id`: node i is node i again.
 /// - glTF/GLB: one scene, one node, one mesh, one primitive (triangles) with POSITION (with
-///   min/max), NORMAL and TEXCOORD_0 (those the mesh has) and UNSIGNED_INT indices; nodes are
-///   split like PLY's, since glTF has no per-corner indices. glTF puts the UV origin at the top
-///   left, so `v` is written as `1 - v` (assimp flips it back on import). A `.gltf` embeds its
-///   buffer as a base64 data URI, so a frame is one file; a `.glb` is the binary container.
+///   min/max), NORMAL and TEXCOORD_0 (those the mesh has), `_ID` (SCALAR FLOAT, the node; left out
+///   for meshes of more than 2^24 nodes, which a float cannot number exactly), `_VELOCITY` (VEC3
+///   FLOAT, m/s, 0 without velocities) and UNSIGNED_INT indices. glTF puts the UV origin at the top
+///   left, so `v` is written as `1 - v` (readers flip it back). A `.gltf` embeds its buffer as a
+///   base64 data URI, so a frame is one file; a `.glb` is the binary container.
 ///
 /// Throws a runtime `Error` ("<path>: cannot write: <reason>") when the file cannot be written,
 /// leaving no temporary file behind.

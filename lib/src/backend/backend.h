@@ -9,7 +9,9 @@
 
 #include <cstddef>
 #include <cstdlib>
+#include <vector>
 
+#include <thrust/copy.h>
 #include <thrust/detail/config.h>
 #include <thrust/system/omp/execution_policy.h>
 #include <thrust/system/omp/vector.h>
@@ -122,6 +124,28 @@ template <class Vector>
 void resize_with_headroom(Vector& v, std::size_t n) {
   if (n > v.capacity()) v.reserve(v.capacity() > 0 ? n + n / 8 : n);
   v.resize(n);
+}
+
+/// Copies between the host and a backend's vectors. Thrust's copy of an empty range still forms a
+/// reference to the first element of its destination, which an empty vector does not have (a
+/// null reference: undefined behaviour, reported by UBSan for every mesh without UVs and every
+/// simulation without colliders); these helpers copy nothing then.
+///
+/// `v` [n] in `System`'s memory → a host vector of n `T`s.
+template <class T, class Vector>
+std::vector<T> to_host(const Vector& v) {
+  std::vector<T> out(v.size());
+  if (!out.empty()) thrust::copy(v.begin(), v.end(), out.begin());
+  return out;
+}
+
+/// `v` becomes a copy of the host range `host` (any container with begin, end and empty).
+template <class Vector, class HostRange>
+void assign_from_host(Vector& v, const HostRange& host) {
+  if (host.empty())
+    v.clear();
+  else
+    v.assign(host.begin(), host.end());
 }
 
 template <class T, class Vector>

@@ -3,8 +3,11 @@
 #include <algorithm>
 #include <chrono>
 
+#include <nlohmann/json.hpp>
+
 #include "bench/bench_device.h"
 #include "tear/demo_scene.h"
+#include "tear/error.h"
 #include "tear/make_sheet.h"
 #include "tear/run_cuts.h"
 #include "tear/simulation.h"
@@ -12,11 +15,30 @@
 namespace tear {
 
 namespace {
+/// Device names come from drivers: replace bytes that are not UTF-8 rather than fail on them.
+std::string json_text(const nlohmann::json& j) { return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace); }
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
 }
 }  // namespace
+
+void check_bench_options(const BenchOptions& options) {
+  for (index_t faces : options.face_counts)
+    if (faces < 2 || faces % 2 != 0 || faces == 6 || faces > max_bench_faces)
+      throw Error(ErrorKind::usage, "--faces " + std::to_string(faces) +
+                                        ": expected an even number of faces from 2 to " +
+                                        std::to_string(max_bench_faces) + ", not 6 (what a sheet can be tiled with)");
+  if (options.face_counts.empty()) throw Error(ErrorKind::usage, "--faces: expected at least one size");
+  if (options.repeats < 1 || options.repeats > 1000)
+    throw Error(ErrorKind::usage, "--repeats " + std::to_string(options.repeats) + ": expected 1..1000");
+  if (options.warmup < 0 || options.warmup > 1000)
+    throw Error(ErrorKind::usage, "--warmup " + std::to_string(options.warmup) + ": expected 0..1000");
+  if (options.iterations < 1 || options.iterations > 100000)
+    throw Error(ErrorKind::usage, "--iterations " + std::to_string(options.iterations) + ": expected 1..100000");
+  if (options.segments < 1) throw Error(ErrorKind::usage, "segments " + std::to_string(options.segments) + ": expected >= 1");
+}
 
 CutLine bench_cut(int segments) {
   CutLine line;
@@ -123,8 +145,8 @@ std::vector<SceneBenchRow> run_scene_bench(const BenchOptions& options, Device d
   std::vector<SceneBenchRow> rows;
   for (DemoResolution resolution : options.resolutions) {
     CutScript script = demo_script();
-    script.simulation["substeps"] = 1;
-    script.simulation["iterations"] = options.iterations;
+    script.simulation->substeps = 1;
+    script.simulation->iterations = options.iterations;
     const Mesh mesh = make_demo_sheet(resolution);
     std::vector<SceneBenchRow> runs;
     for (int run = 0; run < options.warmup + options.repeats; ++run) {
@@ -159,8 +181,8 @@ std::vector<SceneBenchRow> run_scene_bench(const BenchOptions& options, Device d
   return rows;
 }
 
-nlohmann::json to_json(const PdBenchRow& row) {
-  return {{"faces", row.faces},
+std::string to_json(const PdBenchRow& row) {
+  return json_text({{"faces", row.faces},
           {"nodes", row.nodes},
           {"constraints", row.constraints},
           {"device", to_string(row.device)},
@@ -171,25 +193,25 @@ nlohmann::json to_json(const PdBenchRow& row) {
           {"node_iterations_per_s", row.node_iterations_per_s},
           {"bytes_per_iteration", row.bytes_per_iteration},
           {"floor_ms", row.floor_ms},
-          {"peak_bytes", row.peak_bytes}};
+          {"peak_bytes", row.peak_bytes}});
 }
 
-nlohmann::json to_json(const SceneBenchRow& row) {
-  return {{"resolution", row.resolution},       {"faces_start", row.faces_start},
+std::string to_json(const SceneBenchRow& row) {
+  return json_text({{"resolution", row.resolution},       {"faces_start", row.faces_start},
           {"faces_end", row.faces_end},         {"device", to_string(row.device)},
           {"device_name", row.device_name},     {"frames", row.frames},
           {"iterations", row.iterations},       {"frame_ms_mean", row.frame_ms_mean},
           {"frame_ms_max", row.frame_ms_max},   {"remesh_ms", row.remesh_ms},
-          {"simulation_ms", row.simulation_ms}};
+          {"simulation_ms", row.simulation_ms}});
 }
 
-nlohmann::json to_json(const BenchRow& row) {
+std::string to_json(const BenchRow& row) {
   nlohmann::json stages = nlohmann::json::object();
   for (int s = 0; s < static_cast<int>(CutStage::count); ++s) stages[to_string(static_cast<CutStage>(s))] = row.stage_ms[s];
-  return {{"faces", row.faces},           {"device", to_string(row.device)}, {"device_name", row.device_name},
+  return json_text({{"faces", row.faces},           {"device", to_string(row.device)}, {"device_name", row.device_name},
           {"remesh_ms", row.remesh_ms},   {"stage_ms", stages},              {"faces_per_s", row.faces_per_s},
           {"nodes_after", row.nodes_after}, {"faces_after", row.faces_after},
-          {"peak_bytes", row.peak_bytes}};
+          {"peak_bytes", row.peak_bytes}});
 }
 
 }  // namespace tear

@@ -3,16 +3,16 @@
 #include <cmath>
 
 #include "cloth/cloth_engine.h"
+#include "script/unit_vector.h"
 #include "tear/error.h"
 
 namespace tear {
 
 namespace {
 using Vec3 = std::array<double, 3>;
-Vec3 normalized(const Vec3& v) {
-  const double len = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-  return {v[0] / len, v[1] / len, v[2] / len};
-}
+// Scaled by the largest component first: a direction such as [1e308, 1e308, 0] or [0, 0, 1e-320]
+// would overflow or underflow its squared length.
+Vec3 normalized(const Vec3& v) { return unit_vector(v); }
 Vec3 cross(const Vec3& a, const Vec3& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
@@ -103,6 +103,8 @@ void Cloth::simulate(const SimulationOptions& options) { engine_->simulate(optio
 bool Cloth::simulated() const { return engine_->simulated(); }
 void Cloth::step() { engine_->step(); }
 bool Cloth::state_is_finite() const { return engine_->state_is_finite(); }
+std::string Cloth::save_state() const { return engine_->save_state(); }
+void Cloth::load_state(const std::string& state, const std::string& source) { engine_->load_state(state, source); }
 
 void Cloth::set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) {
   const std::size_t expected = 3 * std::size_t(node_count());

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <memory>
+#include <string>
 
 #include "backend/systems.h"
 #include "tear/cloth.h"
@@ -27,6 +28,9 @@ class Cloth::Engine {
   virtual std::vector<float> node_vel() const = 0;
   virtual std::vector<std::uint8_t> node_pinned() const = 0;
   virtual CutProvenance provenance() const = 0;
+  virtual std::string save_state() const = 0;
+  /// Throws an input `Error` naming `source` when `state` is not a consistent cloth.
+  virtual void load_state(const std::string& state, const std::string& source) = 0;
   /// Sizes already checked by `Cloth::set_node_state`.
   virtual void set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) = 0;
 };

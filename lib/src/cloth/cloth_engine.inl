@@ -2,6 +2,8 @@
 // by the solver; nothing goes through the host between frames but what a frame writes.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <string>
 #include <type_traits>
 
 #include <thrust/copy.h>
@@ -109,7 +111,7 @@ class ClothEngine final : public Cloth::Engine {
     StageClock clock(options.time_stages, stats.stage_ms.data());
     if (remesher_.cut_info_from_paths(cloth_, cuts, options, clock) &&
         remesher_.apply_cut_info(cloth_, options, stats, clock)) {
-      solver_.reset();  // the model is the old mesh's
+      solver_stale_ = true;  // its model is the old mesh's: rebuilt by the next step
       reapply_box_pins();
     }
     Traits<System>::synchronize();
@@ -144,7 +146,11 @@ class ClothEngine final : public Cloth::Engine {
 
   void step() override {
     if (!simulated_) throw Error(ErrorKind::usage, "Cloth::step: no simulation (call Cloth::simulate first)");
-    if (!solver_) solver_ = make_pd_solver<System>(cloth_, options_);
+    if (!solver_ || solver_stale_) {
+      solver_.reset();  // the old model's memory first, so the two never coexist
+      solver_ = make_pd_solver<System>(cloth_, options_);
+      solver_stale_ = false;
+    }
     solver_->step_in_place(raw<float>(cloth_.node_pos), raw<float>(cloth_.node_vel));
   }
 
@@ -195,6 +201,54 @@ class ClothEngine final : public Cloth::Engine {
   std::vector<float> node_vel() const override { return to_host<float>(cloth_.node_vel); }
   std::vector<std::uint8_t> node_pinned() const override { return to_host<std::uint8_t>(cloth_.node_pinned); }
   CutProvenance provenance() const override { return remesher_.provenance(); }
+  std::string save_state() const override {
+    std::string out;
+    const DeviceCloth<System>& c = cloth_;
+    put(out, c.face_nodes);
+    put(out, c.node_rest);
+    put(out, c.corner_uv);
+    put(out, c.corner_normal);
+    put(out, c.node_pos);
+    put(out, c.node_vel);
+    put(out, c.node_pinned);
+    put(out, c.face_origin);
+    put(out, c.corner_origin);
+    put(out, c.input_face_border);
+    return out;
+  }
+
+  void load_state(const std::string& state, const std::string& source) override {
+    DeviceCloth<System> c;
+    std::size_t at = 0;
+    take(state, at, c.face_nodes, source);
+    take(state, at, c.node_rest, source);
+    take(state, at, c.corner_uv, source);
+    take(state, at, c.corner_normal, source);
+    take(state, at, c.node_pos, source);
+    take(state, at, c.node_vel, source);
+    take(state, at, c.node_pinned, source);
+    take(state, at, c.face_origin, source);
+    take(state, at, c.corner_origin, source);
+    take(state, at, c.input_face_border, source);
+    const std::size_t f = c.face_nodes.size() / 3, n = c.node_rest.size() / 3;
+    const bool sizes = at == state.size() && c.face_nodes.size() == 3 * f && c.node_rest.size() == 3 * n &&
+                       (c.corner_uv.empty() || c.corner_uv.size() == 6 * f) &&
+                       (c.corner_normal.empty() || c.corner_normal.size() == 9 * f) && c.node_pos.size() == 3 * n &&
+                       c.node_vel.size() == 3 * n && c.node_pinned.size() == n && c.face_origin.size() == f &&
+                       c.corner_origin.size() == 9 * f;
+    if (!sizes) throw input_error(source, "the cloth's arrays do not fit together (a damaged or foreign checkpoint)");
+    const std::vector<index_t> nodes = to_host<index_t>(c.face_nodes);
+    const std::vector<index_t> origins = to_host<index_t>(c.face_origin);
+    const index_t input_faces = static_cast<index_t>(c.input_face_border.size());
+    if (std::any_of(nodes.begin(), nodes.end(), [&](index_t v) { return v < 0 || v >= index_t(n); }) ||
+        std::any_of(origins.begin(), origins.end(), [&](index_t v) { return v < 0 || v >= input_faces; }))
+      throw input_error(source, "a face names a node or an input face out of range (a damaged or foreign checkpoint)");
+    build_device_topology(c.topo, c.face_nodes, static_cast<index_t>(n), remesher_.topology_scratch(),
+                          remesher_.allocator());
+    cloth_ = std::move(c);
+    solver_stale_ = true;
+  }
+
   void set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) override {
     // Into the arrays in place: a solver bound to them stays valid.
     thrust::copy(node_pos.begin(), node_pos.end(), cloth_.node_pos.begin());
@@ -202,6 +256,27 @@ class ClothEngine final : public Cloth::Engine {
   }
 
  private:
+  /// An array as its element count (8 bytes, little endian as the machine) and its bytes.
+  template <class T>
+  static void put(std::string& out, const vec<T>& v) {
+    const std::vector<T> host = to_host<T>(v);
+    const std::uint64_t count = host.size();
+    out.append(reinterpret_cast<const char*>(&count), sizeof count);
+    out.append(reinterpret_cast<const char*>(host.data()), host.size() * sizeof(T));
+  }
+  template <class T>
+  static void take(const std::string& in, std::size_t& at, vec<T>& v, const std::string& source) {
+    std::uint64_t count = 0;
+    if (in.size() - at < sizeof count) throw input_error(source, "the cloth's arrays are cut short");
+    std::memcpy(&count, in.data() + at, sizeof count);
+    at += sizeof count;
+    if (count > (in.size() - at) / sizeof(T)) throw input_error(source, "the cloth's arrays are cut short");
+    std::vector<T> host(count);
+    std::memcpy(host.data(), in.data() + at, count * sizeof(T));
+    at += count * sizeof(T);
+    v.assign(host.begin(), host.end());
+  }
+
   void reapply_box_pins() {
     if (pin_boxes_.empty()) return;
     const thrust::counting_iterator<index_t> zero(0);
@@ -215,7 +290,8 @@ class ClothEngine final : public Cloth::Engine {
   bool simulated_ = false;
   SimulationOptions options_;
   vec<double> pin_boxes_;                      // [box * 6] of the simulation's box pins
-  std::unique_ptr<PdSolver::Impl> solver_;     // the model of the current mesh; null after a cut
+  std::unique_ptr<PdSolver::Impl> solver_;     // the model of the mesh it was built for
+  bool solver_stale_ = false;                  // a cut changed the mesh since
 };
 
 template <class System>

@@ -19,6 +19,133 @@ bool node_is_finite(const std::vector<float>& node_pos, index_t node) {
          std::isfinite(node_pos[3 * node + 2]);
 }
 
+/// Rejects arrays that do not match, so welding never reads out of range.
+void check_arrays(const Mesh& mesh, const char* who) {
+  auto fail = [&](const std::string& what) { return Error(ErrorKind::input, std::string(who) + ": " + what); };
+  const index_t node_count = mesh.node_count();
+  const index_t face_count = mesh.face_count();
+  for (std::size_t c = 0; c < mesh.face_nodes.size(); ++c) {
+    const index_t node = mesh.face_nodes[c];
+    if (node < 0 || node >= node_count) {
+      throw fail("face " + std::to_string(c / 3) + " uses node " + std::to_string(node) + " of " +
+                 std::to_string(node_count));
+    }
+  }
+  if ((mesh.has_uv() && mesh.corner_uv.size() != 6 * static_cast<std::size_t>(face_count)) ||
+      (mesh.has_normals() && mesh.corner_normal.size() != 9 * static_cast<std::size_t>(face_count))) {
+    throw fail("corner_uv or corner_normal does not have one entry per face corner");
+  }
+  const std::size_t n = static_cast<std::size_t>(node_count);
+  if ((mesh.has_velocities() && mesh.node_vel.size() != 3 * n) ||
+      (mesh.has_origins() && mesh.node_origin_face.size() != n) ||
+      (mesh.node_origin_bary.size() != 2 * mesh.node_origin_face.size())) {
+    throw fail("node_vel, node_origin_face or node_origin_bary does not have one entry per node");
+  }
+  if (mesh.torn_edge_nodes.size() % 2 != 0) throw fail("torn_edge_nodes does not hold pairs");
+  for (index_t node : mesh.torn_edge_nodes) {
+    if (node < 0 || node >= node_count) {
+      throw fail("a torn edge uses node " + std::to_string(node) + " of " + std::to_string(node_count));
+    }
+  }
+}
+
+std::vector<std::uint8_t> used_nodes(const Mesh& mesh) {
+  std::vector<std::uint8_t> used(mesh.node_count(), 0);
+  for (index_t node : mesh.face_nodes) used[node] = 1;
+  return used;
+}
+
+template <typename T>
+void gather(std::vector<T>& values, int width, const std::vector<index_t>& kept) {
+  if (values.empty()) return;
+  std::vector<T> out;
+  out.reserve(width * kept.size());
+  for (index_t node : kept) out.insert(out.end(), values.begin() + width * node, values.begin() + width * node + width);
+  values = std::move(out);
+}
+
+std::uint64_t edge_key(index_t a, index_t b) {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
+}
+
+/// Merges every node into its group's representative `node_group[node]` (a node of the group,
+/// `node_group[rep] == rep`), then keeps the representatives some face still uses, ordered by
+/// `group_key[rep]` (ascending, ties by index; by index alone when `group_key` is empty).
+/// Faces left with a repeated node are dropped with their corner attributes; the node arrays
+/// (positions, velocities, origins) take the representative's values; torn edges follow their
+/// nodes and are kept only while they are still an edge of exactly one face.
+void merge_nodes(Mesh& mesh, const std::vector<index_t>& node_group, const std::vector<std::int64_t>& group_key) {
+  const index_t face_count = mesh.face_count();
+  std::vector<index_t> face_nodes;
+  std::vector<float> corner_uv, corner_normal;
+  face_nodes.reserve(mesh.face_nodes.size());
+  corner_uv.reserve(mesh.corner_uv.size());
+  corner_normal.reserve(mesh.corner_normal.size());
+  for (index_t face = 0; face < face_count; ++face) {
+    index_t merged[3];
+    for (int k = 0; k < 3; ++k) merged[k] = node_group[mesh.face_nodes[3 * face + k]];
+    if (merged[0] == merged[1] || merged[1] == merged[2] || merged[2] == merged[0]) continue;
+    face_nodes.insert(face_nodes.end(), merged, merged + 3);
+    if (mesh.has_uv()) {
+      corner_uv.insert(corner_uv.end(), mesh.corner_uv.begin() + 6 * face, mesh.corner_uv.begin() + 6 * face + 6);
+    }
+    if (mesh.has_normals()) {
+      corner_normal.insert(corner_normal.end(), mesh.corner_normal.begin() + 9 * face,
+                           mesh.corner_normal.begin() + 9 * face + 9);
+    }
+  }
+
+  // The representatives still in use, in the order of their keys.
+  std::vector<index_t> kept;
+  {
+    std::vector<std::uint8_t> in_use(mesh.node_count(), 0);
+    for (index_t node : face_nodes) in_use[node] = 1;
+    for (index_t node = 0; node < mesh.node_count(); ++node) {
+      if (in_use[node]) kept.push_back(node);
+    }
+  }
+  if (!group_key.empty()) {
+    std::stable_sort(kept.begin(), kept.end(), [&](index_t a, index_t b) { return group_key[a] < group_key[b]; });
+  }
+  std::vector<index_t> new_index(mesh.node_count(), none);
+  for (std::size_t i = 0; i < kept.size(); ++i) new_index[kept[i]] = static_cast<index_t>(i);
+  for (index_t& node : face_nodes) node = new_index[node];
+
+  // Torn edges: mapped to the merged nodes, kept while they are an edge of exactly one face.
+  std::vector<index_t> torn_edge_nodes;
+  if (!mesh.torn_edge_nodes.empty()) {
+    std::unordered_map<std::uint64_t, int> edge_faces;
+    std::vector<index_t> mapped;
+    for (std::size_t e = 0; e + 1 < mesh.torn_edge_nodes.size(); e += 2) {
+      const index_t a = new_index[node_group[mesh.torn_edge_nodes[e]]];
+      const index_t b = new_index[node_group[mesh.torn_edge_nodes[e + 1]]];
+      if (a == none || b == none || a == b) continue;
+      mapped.insert(mapped.end(), {a, b});
+      edge_faces.emplace(edge_key(a, b), 0);
+    }
+    for (std::size_t f = 0; f < face_nodes.size(); f += 3) {
+      for (int k = 0; k < 3; ++k) {
+        auto found = edge_faces.find(edge_key(face_nodes[f + (k + 1) % 3], face_nodes[f + (k + 2) % 3]));
+        if (found != edge_faces.end()) ++found->second;
+      }
+    }
+    for (std::size_t e = 0; e < mapped.size(); e += 2) {
+      if (edge_faces[edge_key(mapped[e], mapped[e + 1])] == 1) {
+        torn_edge_nodes.insert(torn_edge_nodes.end(), {mapped[e], mapped[e + 1]});
+      }
+    }
+  }
+
+  gather(mesh.node_pos, 3, kept);
+  gather(mesh.node_vel, 3, kept);
+  gather(mesh.node_origin_face, 1, kept);
+  gather(mesh.node_origin_bary, 2, kept);
+  mesh.face_nodes = std::move(face_nodes);
+  if (mesh.has_uv()) mesh.corner_uv = std::move(corner_uv);
+  if (mesh.has_normals()) mesh.corner_normal = std::move(corner_normal);
+  mesh.torn_edge_nodes = std::move(torn_edge_nodes);
+}
 
 /// Exact welding: sort by position (ties by index), so each run of equal positions starts with its
 /// lowest index.
@@ -95,24 +222,11 @@ void weld_nodes(Mesh& mesh, double tolerance) {
   if (!std::isfinite(tolerance) || tolerance < 0.0) {
     throw Error(ErrorKind::usage, "weld tolerance must be a finite number >= 0, got " + std::to_string(tolerance));
   }
+  check_arrays(mesh, "weld_nodes");
   const index_t node_count = mesh.node_count();
-  const index_t face_count = mesh.face_count();
-  for (std::size_t c = 0; c < mesh.face_nodes.size(); ++c) {
-    const index_t node = mesh.face_nodes[c];
-    if (node < 0 || node >= node_count) {
-      throw Error(ErrorKind::input, "weld_nodes: face " + std::to_string(c / 3) + " uses node " + std::to_string(node) +
-                                        " of " + std::to_string(node_count));
-    }
-  }
-
-  if ((mesh.has_uv() && mesh.corner_uv.size() != 6 * static_cast<std::size_t>(face_count)) ||
-      (mesh.has_normals() && mesh.corner_normal.size() != 9 * static_cast<std::size_t>(face_count))) {
-    throw Error(ErrorKind::input, "weld_nodes: corner_uv or corner_normal does not have one entry per face corner");
-  }
 
   // Only nodes some face uses take part, so an unused node never links two used ones.
-  std::vector<std::uint8_t> node_used(node_count, 0);
-  for (index_t node : mesh.face_nodes) node_used[node] = 1;
+  const std::vector<std::uint8_t> node_used = used_nodes(mesh);
   std::vector<index_t> weldable;
   for (index_t node = 0; node < node_count; ++node) {
     if (node_used[node] && node_is_finite(mesh.node_pos, node)) weldable.push_back(node);
@@ -123,44 +237,45 @@ void weld_nodes(Mesh& mesh, double tolerance) {
   } else {
     link_within(mesh.node_pos, weldable, tolerance, sets);
   }
+  std::vector<index_t> node_group(node_count);
+  for (index_t node = 0; node < node_count; ++node) node_group[node] = sets.find(node);
+  merge_nodes(mesh, node_group, {});
+}
 
-  // Faces whose corners collapsed onto fewer than three nodes are degenerate: drop them with their
-  // corner attributes.
-  std::vector<index_t> face_nodes;
-  std::vector<float> corner_uv, corner_normal;
-  face_nodes.reserve(mesh.face_nodes.size());
-  corner_uv.reserve(mesh.corner_uv.size());
-  corner_normal.reserve(mesh.corner_normal.size());
-  for (index_t face = 0; face < face_count; ++face) {
-    index_t welded[3];
-    for (int k = 0; k < 3; ++k) welded[k] = sets.find(mesh.face_nodes[3 * face + k]);
-    if (welded[0] == welded[1] || welded[1] == welded[2] || welded[2] == welded[0]) continue;
-    face_nodes.insert(face_nodes.end(), welded, welded + 3);
-    if (mesh.has_uv()) {
-      corner_uv.insert(corner_uv.end(), mesh.corner_uv.begin() + 6 * face, mesh.corner_uv.begin() + 6 * face + 6);
-    }
-    if (mesh.has_normals()) {
-      corner_normal.insert(corner_normal.end(), mesh.corner_normal.begin() + 9 * face,
-                           mesh.corner_normal.begin() + 9 * face + 9);
-    }
+void weld_nodes_by_id(Mesh& mesh, const std::vector<index_t>& node_id) {
+  check_arrays(mesh, "weld_nodes_by_id");
+  const index_t node_count = mesh.node_count();
+  if (node_id.size() != static_cast<std::size_t>(node_count)) {
+    throw Error(ErrorKind::input, "weld_nodes_by_id: " + std::to_string(node_id.size()) + " ids for " +
+                                      std::to_string(node_count) + " nodes");
   }
-
-  // Keep the representatives still in use, in ascending original index.
-  std::vector<index_t> new_index(node_count, none);
-  for (index_t node : face_nodes) new_index[node] = 0;
-  std::vector<float> node_pos;
-  index_t kept = 0;
+  const std::vector<std::uint8_t> node_used = used_nodes(mesh);
+  std::vector<index_t> order;
   for (index_t node = 0; node < node_count; ++node) {
-    if (new_index[node] == none) continue;
-    new_index[node] = kept++;
-    node_pos.insert(node_pos.end(), mesh.node_pos.begin() + 3 * node, mesh.node_pos.begin() + 3 * node + 3);
+    if (!node_used[node]) continue;
+    if (node_id[node] < 0) {
+      throw Error(ErrorKind::input, "weld_nodes_by_id: node " + std::to_string(node) + " has the negative id " +
+                                        std::to_string(node_id[node]));
+    }
+    order.push_back(node);
   }
-  for (index_t& node : face_nodes) node = new_index[node];
+  // Sorted by (id, index): each run of one id starts with its lowest index, the representative.
+  std::sort(order.begin(), order.end(),
+            [&](index_t a, index_t b) { return node_id[a] != node_id[b] ? node_id[a] < node_id[b] : a < b; });
+  std::vector<index_t> node_group(node_count);
+  std::iota(node_group.begin(), node_group.end(), 0);
+  for (std::size_t i = 1; i < order.size(); ++i) {
+    if (node_id[order[i]] == node_id[order[i - 1]]) node_group[order[i]] = node_group[order[i - 1]];
+  }
+  std::vector<std::int64_t> group_key(node_id.begin(), node_id.end());
+  merge_nodes(mesh, node_group, group_key);
+}
 
-  mesh.node_pos = std::move(node_pos);
-  mesh.face_nodes = std::move(face_nodes);
-  if (mesh.has_uv()) mesh.corner_uv = std::move(corner_uv);
-  if (mesh.has_normals()) mesh.corner_normal = std::move(corner_normal);
+void drop_unused_nodes(Mesh& mesh) {
+  check_arrays(mesh, "drop_unused_nodes");
+  std::vector<index_t> node_group(mesh.node_count());
+  std::iota(node_group.begin(), node_group.end(), 0);
+  merge_nodes(mesh, node_group, {});
 }
 
 }  // namespace tear

@@ -1,22 +1,80 @@
+#include <dirent.h>
 #include <fcntl.h>
+#include <signal.h>
+#include <sys/stat.h>
 #include <unistd.h>
 
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <map>
+#include <set>
 #include <string>
+#include <vector>
 
 #include "tear/error.h"
+#include "tear/output_files.h"
 #include "tear/write_mesh.h"
 
 namespace tear {
 
-void write_file_atomically(const std::string& path, const std::string& text) {
-  // The temporary file lives in the target's directory: rename is atomic only within one file system.
+namespace {
+
+/// The folder of `path` with its trailing slash ("" for a bare name) and the file name.
+std::pair<std::string, std::string> split_path(const std::string& path) {
   const std::size_t slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
-  const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
-  const std::string temp = dir + "." + name + ".tmp." + std::to_string(::getpid());
+  if (slash == std::string::npos) return {std::string(), path};
+  return {path.substr(0, slash + 1), path.substr(slash + 1)};
+}
+
+/// The one spelling of a temporary file: `.<name>.tmp.<pid>` beside the target. The temporary file
+/// lives in the target's directory: rename is atomic only within one file system.
+const char temporary_infix[] = ".tmp.";
+std::string temporary_path(const std::string& path, long pid) {
+  const auto [dir, name] = split_path(path);
+  return dir + "." + name + temporary_infix + std::to_string(pid);
+}
+
+/// True when `pid` names no running process (or this one): its temporary files are left-overs.
+bool process_gone(long pid) {
+  if (pid == static_cast<long>(::getpid()) || pid <= 0) return true;
+  return ::kill(static_cast<pid_t>(pid), 0) != 0 && errno == ESRCH;
+}
+
+}  // namespace
+
+std::size_t remove_stale_temporaries(const std::vector<std::string>& paths) {
+  std::map<std::string, std::set<std::string>> names_by_folder;
+  for (const std::string& path : paths) {
+    if (path.empty()) continue;
+    const auto [dir, name] = split_path(path);
+    if (!name.empty()) names_by_folder[dir].insert(name);
+  }
+  std::size_t removed = 0;
+  for (const auto& [dir, names] : names_by_folder) {
+    DIR* folder = ::opendir(dir.empty() ? "." : dir.c_str());
+    if (folder == nullptr) continue;
+    std::vector<std::string> stale;
+    while (const dirent* entry = ::readdir(folder)) {
+      const std::string file = entry->d_name;
+      const std::size_t infix = file.rfind(temporary_infix);
+      if (file.size() < 2 || file[0] != '.' || infix == std::string::npos || infix < 2) continue;
+      const std::string digits = file.substr(infix + sizeof temporary_infix - 1);
+      if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos) continue;
+      if (names.count(file.substr(1, infix - 1)) == 0 || !process_gone(std::stol(digits))) continue;
+      stale.push_back(dir + file);
+    }
+    ::closedir(folder);
+    for (const std::string& file : stale) {
+      struct stat s {};
+      if (::lstat(file.c_str(), &s) == 0 && S_ISREG(s.st_mode) && ::unlink(file.c_str()) == 0) ++removed;
+    }
+  }
+  return removed;
+}
+
+void write_file_atomically(const std::string& path, const std::string& text) {
+  const std::string temp = temporary_path(path, static_cast<long>(::getpid()));
 
   auto fail = [&](int error, bool remove_temp) {
     if (remove_temp) ::unlink(temp.c_str());

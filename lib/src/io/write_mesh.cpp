@@ -8,6 +8,7 @@
 #include <limits>
 #include <map>
 #include <nlohmann/json.hpp>
+#include <numeric>
 #include <string>
 #include <utility>
 #include <vector>
@@ -17,6 +18,9 @@
 namespace tear {
 namespace {
 
+/// The largest node count whose every index a float holds exactly (2^24).
+constexpr index_t max_float_id = 1 << 24;
+
 std::uint32_t float_bits(float value) {
   std::uint32_t bits;
   std::memcpy(&bits, &value, sizeof bits);
@@ -24,8 +28,9 @@ std::uint32_t float_bits(float value) {
 }
 
 /// `%.9g` without the locale: 9 significant digits always read back to the same float. Small
-/// magnitudes go to fixed notation where that is exact too, because assimp's OBJ parser scales
-/// by the exponent in float arithmetic and misses by one ulp on a few percent of such numbers.
+/// magnitudes go to fixed notation where that is exact too, because fast OBJ parsers (assimp's
+/// among them) scale by the exponent in float arithmetic and miss by one ulp on a few percent of
+/// such numbers.
 std::string format_float(float value) {
   char text[64];
   const double wide = value;
@@ -43,12 +48,19 @@ std::string format_float(float value) {
 void check_mesh(const Mesh& mesh, const std::string& path) {
   auto fail = [&](const std::string& what) { return runtime_error(path + ": cannot write: " + what); };
   const std::size_t corner_count = mesh.face_nodes.size();
+  const std::size_t node_count = static_cast<std::size_t>(mesh.node_count());
   if (mesh.node_pos.size() % 3 != 0) throw fail("node_pos size is not a multiple of 3");
   if (corner_count % 3 != 0) throw fail("face_nodes size is not a multiple of 3");
   if (mesh.has_uv() && mesh.corner_uv.size() != 2 * corner_count) throw fail("corner_uv has the wrong size");
   if (mesh.has_normals() && mesh.corner_normal.size() != 3 * corner_count) {
     throw fail("corner_normal has the wrong size");
   }
+  if (mesh.has_velocities() && mesh.node_vel.size() != 3 * node_count) throw fail("node_vel has the wrong size");
+  if (mesh.has_origins() && mesh.node_origin_face.size() != node_count) {
+    throw fail("node_origin_face has the wrong size");
+  }
+  if (mesh.node_origin_bary.size() != 2 * mesh.node_origin_face.size())
+    throw fail("node_origin_bary has the wrong size");
   for (std::size_t c = 0; c < corner_count; ++c) {
     const index_t node = mesh.face_nodes[c];
     if (node < 0 || node >= mesh.node_count()) {
@@ -56,44 +68,68 @@ void check_mesh(const Mesh& mesh, const std::string& path) {
                  std::to_string(mesh.node_count()));
     }
   }
+  if (mesh.torn_edge_nodes.size() % 2 != 0) throw fail("torn_edge_nodes does not hold pairs");
+  for (index_t node : mesh.torn_edge_nodes) {
+    if (node < 0 || node >= mesh.node_count()) {
+      throw fail("a torn edge uses node " + std::to_string(node) + " of " + std::to_string(mesh.node_count()));
+    }
+  }
 }
 
-/// Nodes split where their corners disagree on UV or normal, for formats without per-corner
-/// indices: one vertex per distinct (node, UV, normal), numbered in order of first use.
+/// Equal as numbers: -0 and +0 are one value (Blender writes both in normals), NaN is one value.
+bool same_value(float a, float b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+
+/// Vertices for formats without per-corner indices (PLY, glTF). Vertex `i` is node `i` for every
+/// `i < node_count`, with the UV and normal of the node's first corner; a corner whose UV or
+/// normal differs (as numbers) from those of every vertex of its node so far gets a vertex of its
+/// own, numbered after all the nodes in the order of the corners. So a reader that keeps vertex
+/// order sees node `i` at vertex `i`, and identical attributes never split a node.
 struct SplitNodes {
   std::vector<index_t> vertex_node;    ///< [vertex_count] node of each vertex
-  std::vector<index_t> vertex_corner;  ///< [vertex_count] first corner using it (its UV and normal)
+  std::vector<index_t> vertex_corner;  ///< [vertex_count] first corner using it (its UV and normal), -1 if none
   std::vector<index_t> corner_vertex;  ///< [face_count * 3] vertex of each corner
 };
 
 SplitNodes split_nodes(const Mesh& mesh) {
-  auto same_attributes = [&](std::size_t a, std::size_t b) {
+  auto same_attributes = [&](index_t a, std::size_t b) {
     for (int k = 0; mesh.has_uv() && k < 2; ++k) {
-      if (float_bits(mesh.corner_uv[2 * a + k]) != float_bits(mesh.corner_uv[2 * b + k])) return false;
+      if (!same_value(mesh.corner_uv[2 * a + k], mesh.corner_uv[2 * b + k])) return false;
     }
     for (int k = 0; mesh.has_normals() && k < 3; ++k) {
-      if (float_bits(mesh.corner_normal[3 * a + k]) != float_bits(mesh.corner_normal[3 * b + k])) return false;
+      if (!same_value(mesh.corner_normal[3 * a + k], mesh.corner_normal[3 * b + k])) return false;
     }
     return true;
   };
+  const index_t node_count = mesh.node_count();
   SplitNodes split;
-  // A node has few distinct corner attributes, so a linear search per node is enough.
-  std::vector<std::vector<index_t>> node_vertices(mesh.node_count());
+  split.vertex_node.resize(node_count);
+  std::iota(split.vertex_node.begin(), split.vertex_node.end(), 0);
+  split.vertex_corner.assign(node_count, none);
   split.corner_vertex.resize(mesh.face_nodes.size());
+  // The vertices split off each node; a node has few distinct corner attributes, so a linear
+  // search per corner is enough.
+  std::vector<std::vector<index_t>> node_extra(node_count);
   for (std::size_t c = 0; c < mesh.face_nodes.size(); ++c) {
-    std::vector<index_t>& candidates = node_vertices[mesh.face_nodes[c]];
+    const index_t node = mesh.face_nodes[c];
     index_t vertex = none;
-    for (index_t candidate : candidates) {
-      if (same_attributes(split.vertex_corner[candidate], c)) {
-        vertex = candidate;
-        break;
+    if (split.vertex_corner[node] == none) {
+      split.vertex_corner[node] = static_cast<index_t>(c);
+      vertex = node;
+    } else if (same_attributes(split.vertex_corner[node], c)) {
+      vertex = node;
+    } else {
+      for (index_t candidate : node_extra[node]) {
+        if (same_attributes(split.vertex_corner[candidate], c)) {
+          vertex = candidate;
+          break;
+        }
       }
     }
     if (vertex == none) {
       vertex = static_cast<index_t>(split.vertex_node.size());
-      split.vertex_node.push_back(mesh.face_nodes[c]);
+      split.vertex_node.push_back(node);
       split.vertex_corner.push_back(static_cast<index_t>(c));
-      candidates.push_back(vertex);
+      node_extra[node].push_back(vertex);
     }
     split.corner_vertex[c] = vertex;
   }
@@ -147,6 +183,11 @@ void append_u32(std::string& out, std::uint32_t value) {
 
 void append_f32(std::string& out, float value) { append_u32(out, float_bits(value)); }
 
+/// A vertex's UV and normal: its first corner's, or zeros for a node no face uses.
+float corner_value(const std::vector<float>& corner_values, int width, index_t corner, int k) {
+  return corner == none ? 0.0f : corner_values[static_cast<std::size_t>(width) * corner + k];
+}
+
 std::string ply_bytes(const Mesh& mesh) {
   const SplitNodes split = split_nodes(mesh);
   std::string out = "ply\nformat binary_little_endian 1.0\ncomment tear\n";
@@ -154,19 +195,33 @@ std::string ply_bytes(const Mesh& mesh) {
   out += "property float x\nproperty float y\nproperty float z\n";
   if (mesh.has_normals()) out += "property float nx\nproperty float ny\nproperty float nz\n";
   if (mesh.has_uv()) out += "property float s\nproperty float t\n";
+  // Identity (docs/io.md): the node each vertex is, its velocity (m/s) and its origin.
+  out += "property int id\nproperty float vx\nproperty float vy\nproperty float vz\n";
+  out += "property int origin_face\nproperty float origin_u\nproperty float origin_v\n";
   out += "element face " + std::to_string(mesh.face_count()) + "\n";
-  out += "property list uchar int vertex_indices\nend_header\n";
+  out += "property list uchar int vertex_indices\n";
+  const std::size_t torn_edge_count = mesh.torn_edge_nodes.size() / 2;
+  if (torn_edge_count > 0) {
+    out += "element edge " + std::to_string(torn_edge_count) + "\nproperty int vertex1\nproperty int vertex2\n";
+  }
+  out += "end_header\n";
   for (std::size_t v = 0; v < split.vertex_node.size(); ++v) {
     const index_t node = split.vertex_node[v];
     const index_t corner = split.vertex_corner[v];
     for (int k = 0; k < 3; ++k) append_f32(out, mesh.node_pos[3 * node + k]);
-    for (int k = 0; mesh.has_normals() && k < 3; ++k) append_f32(out, mesh.corner_normal[3 * corner + k]);
-    for (int k = 0; mesh.has_uv() && k < 2; ++k) append_f32(out, mesh.corner_uv[2 * corner + k]);
+    for (int k = 0; mesh.has_normals() && k < 3; ++k) append_f32(out, corner_value(mesh.corner_normal, 3, corner, k));
+    for (int k = 0; mesh.has_uv() && k < 2; ++k) append_f32(out, corner_value(mesh.corner_uv, 2, corner, k));
+    append_u32(out, static_cast<std::uint32_t>(node));
+    for (int k = 0; k < 3; ++k) append_f32(out, mesh.has_velocities() ? mesh.node_vel[3 * node + k] : 0.0f);
+    append_u32(out, static_cast<std::uint32_t>(mesh.has_origins() ? mesh.node_origin_face[node] : none));
+    for (int k = 0; k < 2; ++k) append_f32(out, mesh.has_origins() ? mesh.node_origin_bary[2 * node + k] : 0.0f);
   }
   for (index_t face = 0; face < mesh.face_count(); ++face) {
     append_u8(out, 3);
     for (int k = 0; k < 3; ++k) append_u32(out, static_cast<std::uint32_t>(split.corner_vertex[3 * face + k]));
   }
+  // Vertex i is node i, so the torn edges' node pairs are vertex pairs.
+  for (index_t node : mesh.torn_edge_nodes) append_u32(out, static_cast<std::uint32_t>(node));
   return out;
 }
 
@@ -254,7 +309,7 @@ std::pair<nlohmann::json, std::string> gltf_document(const Mesh& mesh) {
   if (mesh.has_normals()) {
     begin = buffer.size();
     for (index_t corner : split.vertex_corner) {
-      for (int k = 0; k < 3; ++k) append_f32(buffer, mesh.corner_normal[3 * corner + k]);
+      for (int k = 0; k < 3; ++k) append_f32(buffer, corner_value(mesh.corner_normal, 3, corner, k));
     }
     add_view(begin, array_buffer);
     accessors.push_back({{"bufferView", buffer_views.size() - 1},
@@ -266,8 +321,8 @@ std::pair<nlohmann::json, std::string> gltf_document(const Mesh& mesh) {
   if (mesh.has_uv()) {
     begin = buffer.size();
     for (index_t corner : split.vertex_corner) {
-      append_f32(buffer, mesh.corner_uv[2 * corner]);
-      append_f32(buffer, 1.0f - mesh.corner_uv[2 * corner + 1]);
+      append_f32(buffer, corner_value(mesh.corner_uv, 2, corner, 0));
+      append_f32(buffer, 1.0f - corner_value(mesh.corner_uv, 2, corner, 1));
     }
     add_view(begin, array_buffer);
     accessors.push_back({{"bufferView", buffer_views.size() - 1},
@@ -276,6 +331,31 @@ std::pair<nlohmann::json, std::string> gltf_document(const Mesh& mesh) {
                          {"type", "VEC2"}});
     attributes["TEXCOORD_0"] = accessors.size() - 1;
   }
+
+  // Identity (docs/io.md), as application-specific attributes: `_ID`, the node each vertex is,
+  // and `_VELOCITY` (m/s). glTF allows no UNSIGNED_INT outside indices, and Blender imports a
+  // SCALAR FLOAT (not a SHORT) as a point attribute, so ids are floats: exact up to 2^24 nodes,
+  // and left out above that rather than rounded.
+  if (mesh.node_count() <= max_float_id) {
+    begin = buffer.size();
+    for (index_t node : split.vertex_node) append_f32(buffer, static_cast<float>(node));
+    add_view(begin, array_buffer);
+    accessors.push_back({{"bufferView", buffer_views.size() - 1},
+                         {"componentType", float_type},
+                         {"count", vertex_count},
+                         {"type", "SCALAR"}});
+    attributes["_ID"] = accessors.size() - 1;
+  }
+  begin = buffer.size();
+  for (index_t node : split.vertex_node) {
+    for (int k = 0; k < 3; ++k) append_f32(buffer, mesh.has_velocities() ? mesh.node_vel[3 * node + k] : 0.0f);
+  }
+  add_view(begin, array_buffer);
+  accessors.push_back({{"bufferView", buffer_views.size() - 1},
+                       {"componentType", float_type},
+                       {"count", vertex_count},
+                       {"type", "VEC3"}});
+  attributes["_VELOCITY"] = accessors.size() - 1;
 
   begin = buffer.size();
   for (index_t vertex : split.corner_vertex) append_u32(buffer, static_cast<std::uint32_t>(vertex));

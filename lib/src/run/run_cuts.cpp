@@ -6,6 +6,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
+#include <system_error>
 #include <limits>
 #include <memory>
 #include <string>
@@ -13,6 +15,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "tear/checkpoint.h"
 #include "tear/error.h"
 #include "tear/frame_path.h"
 #include "tear/frame_sink.h"
@@ -51,6 +54,25 @@ Vec3 cross(const Vec3& a, const Vec3& b) {
 double dot(const Vec3& a, const Vec3& b) { return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]; }
 double norm(const Vec3& a) { return std::sqrt(dot(a, a)); }
 
+/// What a checkpoint of this run is made from: the mesh as read (its file and the reading options),
+/// the script file (or, for a script made in memory, its name), the device and the options given.
+RunInputs run_inputs(const Mesh& mesh, const CutScript& script, const RunOptions& options) {
+  RunInputs inputs;
+  std::string bytes;
+  for (const auto* floats : {&mesh.node_pos, &mesh.corner_uv, &mesh.corner_normal})
+    bytes.append(reinterpret_cast<const char*>(floats->data()), floats->size() * sizeof(float));
+  bytes.append(reinterpret_cast<const char*>(mesh.face_nodes.data()), mesh.face_nodes.size() * sizeof(index_t));
+  inputs.mesh_digest = digest_bytes(bytes);
+  std::error_code error;
+  inputs.script_digest = std::filesystem::is_regular_file(script.path, error) ? digest_file(script.path)
+                                                                              : digest_bytes(script.path);
+  // The output pattern and first frame number too: a resumed run must go on writing the same files.
+  inputs.options = "tear " TEAR_VERSION ";device=" + std::string(to_string(options.device)) +
+                   ";output=" + options.output_pattern + ";start-frame=" + std::to_string(options.start_frame) +
+                   (options.result_options.empty() ? "" : ";" + options.result_options);
+  return inputs;
+}
+
 /// Refuses a first frame number below 0, or one whose run would number past the largest int.
 void check_start_frame(int start_frame, int frame_count) {
   if (start_frame < 0 || start_frame > std::numeric_limits<int>::max() - (frame_count - 1))
@@ -65,7 +87,7 @@ std::unique_ptr<FrameSink> make_sink(const FramePattern& pattern, const CutScrip
   if (!is_usd_path(pattern.pattern())) return std::make_unique<FrameFiles>(pattern);
   UsdLayerOptions usd;
   // One time code per frame: the simulation's frame rate, or film's.
-  usd.frames_per_second = script.simulation.is_null() ? 24.0 : parse_simulation(script.simulation, script.path).fps;
+  usd.frames_per_second = script.simulation ? script.simulation->fps : 24.0;
   usd.up_axis = options.up_axis;
   usd.meters_per_unit = options.meters_per_unit;
   return std::make_unique<UsdLayer>(pattern, usd);
@@ -131,15 +153,15 @@ void check_run_inputs(const CutScript& script, const Mesh& mesh, const std::stri
   check_script_against_mesh(script, mesh, mesh_path);
   check_cuttable(mesh, mesh_path, device);
   // The simulation block, and its node pins against this mesh.
-  if (!script.simulation.is_null())
-    resolve_pins(parse_simulation(script.simulation, script.path), mesh.node_pos, mesh.node_count());
+  if (script.simulation) resolve_pins(*script.simulation, mesh.node_pos, mesh.node_count());
 }
 
-void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame) {
+void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame,
+              int first_frame) {
   check_frame_count(script, frame_count);
-  if (!script.simulation.is_null()) cloth.simulate(parse_simulation(script.simulation, script.path));
+  if (script.simulation && !cloth.simulated()) cloth.simulate(*script.simulation);
   const CutOptions cut_options{script.snap};
-  for (int frame = 1; frame <= frame_count; ++frame) {
+  for (int frame = first_frame; frame <= frame_count; ++frame) {
     const std::vector<const Cut*> cuts = script.cuts_of_frame(frame);
     FrameResult result;
     result.frame = frame;
@@ -192,6 +214,22 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
   RunSummary summary;
   const std::unique_ptr<FrameSink> sink = make_sink(pattern, script, options);
   Cloth cloth(mesh, options.device);
+  const bool checkpoints = !options.checkpoint_path.empty();
+  // A layer holding every frame is assembled at the end from this process's frames alone.
+  if (checkpoints && is_usd_path(pattern.pattern()) && !pattern.has_frame_number())
+    throw Error(ErrorKind::usage, options.output_pattern +
+                                      ": a single USD layer cannot be checkpointed and resumed; write one layer per "
+                                      "frame (a pattern with a frame number, e.g. shot.####.usda) or PLY frames");
+  const RunInputs inputs = checkpoints ? run_inputs(mesh, script, options) : RunInputs{};
+  int first_frame = 1;
+  if (checkpoints && options.resume && std::filesystem::exists(options.checkpoint_path)) {
+    const Checkpoint checkpoint = read_checkpoint(options.checkpoint_path);
+    const std::string why = inputs_mismatch(checkpoint.inputs, inputs);
+    if (!why.empty()) throw input_error(options.checkpoint_path, "cannot resume from this checkpoint: " + why);
+    if (script.simulation) cloth.simulate(*script.simulation);
+    cloth.load_state(checkpoint.cloth_state, options.checkpoint_path);
+    first_frame = checkpoint.frame + 1;
+  }
   run_cuts(cloth, script, frame_count, [&](const FrameResult& frame, const Cloth& cut_cloth) {
     FrameResult written = frame;
     written.output_frame = options.start_frame + frame.frame - 1;
@@ -212,7 +250,14 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     summary.frames = frame.frame;
     summary.faces = cut_cloth.face_count();
     if (options.on_frame) options.on_frame(written, cut_cloth);
-  });
+    const bool stopping = options.stop && *options.stop;
+    if (checkpoints && (stopping || frame.frame == frame_count || frame.frame % std::max(options.checkpoint_every, 1) == 0))
+      write_checkpoint(options.checkpoint_path, Checkpoint{frame.frame, inputs, cut_cloth.save_state()});
+    if (stopping)
+      throw Error(ErrorKind::interrupted,
+                  "stopped after frame " + std::to_string(frame.frame) + " of " + std::to_string(frame_count) +
+                      (checkpoints ? "; '--resume' goes on from " + options.checkpoint_path : std::string()));
+  }, first_frame);
   sink->finish();
   summary.wall_ms = ms_since(start);
 

@@ -1,6 +1,8 @@
 #include "tear/cut_script.h"
 
 #include "script/json_reader.h"
+#include "script/parse_simulation.h"
+#include "script/unit_vector.h"
 
 #include <algorithm>
 #include <cerrno>
@@ -207,8 +209,6 @@ class ScriptReader : public JsonReader {
   }
 };
 
-double length(const std::array<double, 3>& v) { return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]); }
-
 std::array<double, 3> cross(const std::array<double, 3>& a, const std::array<double, 3>& b) {
   return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
 }
@@ -257,13 +257,12 @@ Cut parse_cut(const ScriptReader& reader, const json& value, const std::string& 
                                           child_path(blade_path, "direction"));
     // A segment parallel to the direction sweeps a line, which the neighbouring segments' surfaces
     // already contain: harmless. A blade made only of such segments cuts nothing, which is a mistake.
+    // The sine is that of unit vectors, which any finite non-zero vector has (no 1e-320 squared to 0).
+    const std::array<double, 3> direction = unit_vector(cut.direction);
     bool sweeps_area = false;
     for (std::size_t i = 0; i + 1 < cut.polyline3.size() && !sweeps_area; ++i) {
-      const auto& a = cut.polyline3[i];
-      const auto& b = cut.polyline3[i + 1];
-      const std::array<double, 3> segment{b[0] - a[0], b[1] - a[1], b[2] - a[2]};
-      sweeps_area =
-          length(cross(segment, cut.direction)) > blade_parallel_sine * length(segment) * length(cut.direction);
+      const std::array<double, 3> segment = unit_vector(finite_difference(cut.polyline3[i], cut.polyline3[i + 1]));
+      sweeps_area = vector_length(cross(segment, direction)) > blade_parallel_sine;
     }
     if (!sweeps_area)
       reader.fail(blade_path, "every segment of the polyline is parallel to the direction, so the blade has no area");
@@ -306,9 +305,9 @@ CutScript parse_cut_script(const std::string& text, const std::string& path_for_
   script.version = reader.integer(reader.member(root, "", "version", "1"), "version", 1, 1, "1");
   reader.expect_object(root, "", {"version", "frames", "snap", "cuts", "simulation"});
 
-  const std::string frames_expected = "an integer >= 1";
-  script.frames = reader.integer(reader.member(root, "", "frames", frames_expected), "frames", 1,
-                                 std::numeric_limits<int>::max(), frames_expected);
+  const std::string frames_expected = "an integer in 1.." + std::to_string(max_frames);
+  script.frames =
+      reader.integer(reader.member(root, "", "frames", frames_expected), "frames", 1, max_frames, frames_expected);
 
   if (root.contains("snap")) {
     script.snap = reader.number(root["snap"], "snap");
@@ -324,11 +323,9 @@ CutScript parse_cut_script(const std::string& text, const std::string& path_for_
   }
 
   if (root.contains("simulation")) {
-    // Its content belongs to the simulation options, which read and check it themselves.
     if (!root["simulation"].is_object())
       reader.fail("simulation", "expected an object, got " + describe(root["simulation"]));
-    // Moved, not copied: copying a json value recurses, and a deeply nested one would overflow the stack.
-    script.simulation = std::move(root["simulation"]);
+    script.simulation = parse_simulation(root["simulation"], file);
   }
   return script;
 }
@@ -355,7 +352,7 @@ void check_script_against_mesh(const CutScript& script, const Mesh& mesh, const 
       hi[a] = n == 0 ? x : std::max(hi[a], x);
     }
   const std::array<double, 3> extent{hi[0] - lo[0], hi[1] - lo[1], hi[2] - lo[2]};
-  const double diagonal = length(extent);
+  const double diagonal = vector_length(extent);
   // Relative, so that the check means the same in millimetres and in metres.
   constexpr double flat_fraction = 1e-9;
 

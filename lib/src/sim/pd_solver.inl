@@ -141,7 +141,7 @@ class PdSolverOn final : public PdSolver::Impl {
     double omega = 1.0;
     for (int k = 0; k < options.iterations; ++k)
       omega_host_[k] = static_cast<float>(omega = kernels::chebyshev_omega(k, cheb.delay, cheb.rho, omega));
-    omega_.assign(omega_host_.begin(), omega_host_.end());
+    assign_from_host(omega_, omega_host_);
     node_pred_.resize(3 * static_cast<std::size_t>(node_count));
     for (auto& iter : node_iter_) iter.resize(3 * static_cast<std::size_t>(node_count));
     std::vector<kernels::PdCollider> colliders;
@@ -156,7 +156,7 @@ class PdSolverOn final : public PdSolver::Impl {
       k.radius = static_cast<float>(c.radius);
       colliders.push_back(k);
     }
-    colliders_.assign(colliders.begin(), colliders.end());
+    assign_from_host(colliders_, colliders);
   }
 
  public:

@@ -22,13 +22,6 @@ struct DeviceTopology {
   vector<System, std::uint8_t> edge_boundary, node_boundary;
 };
 
-template <class T, class Vector>
-std::vector<T> to_host(const Vector& v) {
-  std::vector<T> out(v.size());
-  thrust::copy(v.begin(), v.end(), out.begin());
-  return out;
-}
-
 template <class System>
 Topology download(const DeviceTopology<System>& d) {
   Topology t;

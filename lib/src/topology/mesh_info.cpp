@@ -8,6 +8,8 @@
 #include <numeric>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
 namespace tear {
 
 namespace {
@@ -78,6 +80,7 @@ MeshInfo compute_mesh_info(const Mesh& mesh, const Topology& topology, const Mes
   info.non_manifold_nodes = report.non_manifold_nodes;
   info.degenerate_faces = report.degenerate_faces;
   info.inconsistent_edges = report.inconsistent_edges;
+  info.duplicate_faces = report.duplicate_faces;
   info.has_uv = mesh.has_uv();
   info.has_normals = mesh.has_normals();
 
@@ -88,12 +91,15 @@ MeshInfo compute_mesh_info(const Mesh& mesh, const Topology& topology, const Mes
                        node_position(mesh, mesh.face_nodes[3 * f + 2])};
     info.area += 0.5 * norm(cross(sub(p[1], p[0]), sub(p[2], p[0])));
     if (face_degenerate(mesh, f)) continue;
+    double face_min = 180.0;
     for (int k = 0; k < 3; ++k) {
       const Vec3 u = sub(p[(k + 1) % 3], p[k]), v = sub(p[(k + 2) % 3], p[k]);
       // atan2 of |u x v| and u.v stays accurate for angles near 0 and 180 degrees, where acos does not.
       const double angle = std::atan2(norm(cross(u, v)), dot(u, v)) * (180.0 / kPi);
+      face_min = std::min(face_min, angle);
       if (std::isnan(min_angle) || angle < min_angle) min_angle = angle;
     }
+    if (face_min < sliver_angle_deg) ++info.sliver_faces;
   }
   info.min_angle_deg = min_angle;
 
@@ -112,7 +118,7 @@ MeshInfo compute_mesh_info(const Mesh& mesh, const Topology& topology, const Mes
   return info;
 }
 
-nlohmann::json to_json(const MeshInfo& info) {
+std::string to_json(const MeshInfo& info) {
   auto number_or_null = [](double x) { return std::isnan(x) ? nlohmann::json(nullptr) : nlohmann::json(x); };
   auto point_or_null = [](const std::array<double, 3>& p) {
     return std::isnan(p[0]) ? nlohmann::json(nullptr) : nlohmann::json::array({p[0], p[1], p[2]});
@@ -129,13 +135,15 @@ nlohmann::json to_json(const MeshInfo& info) {
   j["non_manifold_nodes"] = info.non_manifold_nodes;
   j["degenerate_faces"] = info.degenerate_faces;
   j["inconsistent_edges"] = info.inconsistent_edges;
+  j["duplicate_faces"] = info.duplicate_faces;
+  j["sliver_faces"] = info.sliver_faces;
   j["area"] = number_or_null(info.area);
   j["has_uv"] = info.has_uv;
   j["has_normals"] = info.has_normals;
   j["min_angle_deg"] = number_or_null(info.min_angle_deg);
   j["bbox_min"] = point_or_null(info.bbox_min);
   j["bbox_max"] = point_or_null(info.bbox_max);
-  return j;
+  return j.dump();
 }
 
 }  // namespace tear

@@ -19,6 +19,7 @@ std::string MeshReport::describe() const {
   add(non_manifold_edges, "non-manifold edge (more than two faces)", "non-manifold edges (more than two faces)");
   add(non_manifold_nodes, "non-manifold (bow-tie) node", "non-manifold (bow-tie) nodes");
   add(inconsistent_edges, "edge with inconsistently oriented faces", "edges with inconsistently oriented faces");
+  add(duplicate_faces, "face on the same three nodes as another face", "faces on the same three nodes as another face");
   return out.empty() ? "no problems" : out;
 }
 

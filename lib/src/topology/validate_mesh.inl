@@ -41,6 +41,8 @@ MeshReport validate_mesh_on(const Mesh& mesh, const Topology& t) {
   report.non_manifold_edges = count_bad<System>(t.edge_count, kernels::edge_non_manifold{raw<index_t>(edge_face_count)});
   report.inconsistent_edges = count_bad<System>(
       t.edge_count, kernels::edge_inconsistent{raw<index_t>(face_nodes), raw<index_t>(face_edges), raw<index_t>(edge_faces), raw<index_t>(edge_face_count)});
+  report.duplicate_faces = count_bad<System>(
+      mesh.face_count(), kernels::face_duplicate{raw<index_t>(face_nodes), raw<index_t>(node_face_offset), raw<index_t>(node_faces)});
   report.non_manifold_nodes = count_bad<System>(
       t.node_count, kernels::node_non_manifold{raw<index_t>(face_nodes), raw<index_t>(face_edges), raw<index_t>(edge_faces), raw<index_t>(edge_face_count),
                                                raw<index_t>(node_face_offset), raw<index_t>(node_faces)});

@@ -1,0 +1,46 @@
+// tear: the files a command writes, checked before anything is written, and the temporary files
+// of killed runs cleared before a run writes again.
+#pragma once
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "tear/frame_path.h"
+
+namespace tear {
+
+/// A file a command reads or writes, and what it is for messages: {"input mesh", "cloth.obj"},
+/// {"report", "out/report.json"}.
+struct NamedPath {
+  std::string what;
+  std::string path;
+};
+
+/// Checks, before a command writes anything, that its outputs can be written without harm:
+///
+/// 1. no output is one of `inputs` (an input error, exit 2: "<output>: the report is the input
+///    script shot.json; refusing to overwrite it"). Same file means same device and inode, so
+///    another spelling of the path, a hard link or a symlink to the input are caught too; an
+///    output that does not exist yet is no input;
+/// 2. no two outputs are the same path (a usage error: "<output>: the report is also frame 3");
+/// 3. every output's folder exists and can be written, or can be created: its nearest existing
+///    ancestor is a folder that can be written (a runtime error naming the folder, exit 3), and
+///    an existing output is not a folder.
+///
+/// `frames` are the files of `pattern` numbered `first_number`.. (`frame_count` of them, named
+/// "frame N" by their number); pass
+/// `frame_count` 0 for a command without frames. Nothing is created: a folder that is missing is
+/// made by the writer later. Empty paths in `outputs` are skipped.
+void check_output_files(const std::vector<NamedPath>& inputs, const FramePattern* pattern, int frame_count,
+                        const std::vector<NamedPath>& outputs, int first_number = 1);
+
+/// Removes the temporary files that `write_file_atomically` of a process that no longer runs left
+/// beside `paths` (a killed run leaves `.cloth.0036.obj.tmp.4242` behind). Only files named
+/// `.<name>.tmp.<pid>` for a `<name>` of `paths`, in that path's folder, with a decimal `<pid>`
+/// of no running process (or of this one), are removed; nothing else in the folder is touched, and
+/// a folder that does not exist or cannot be listed is skipped. Returns how many were removed.
+/// A run calls it once, after its checks, with every file it is about to write.
+std::size_t remove_stale_temporaries(const std::vector<std::string>& paths);
+
+}  // namespace tear

@@ -1,0 +1,89 @@
+// tear: the parameters of a cloth simulation, as a cut script's `simulation` block gives them
+// (docs/simulation.md is their reference). Parsed with the script (`tear::read_cut_script`).
+#pragma once
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "tear/mesh.h"
+
+namespace tear {
+
+/// Nodes held still: either every node whose rest position lies in a box, or listed nodes.
+struct Pin {
+  enum class Kind { box, nodes };
+  Kind kind = Kind::box;
+  std::array<double, 3> min{};  ///< box corner, rest coordinates, metres (kind box)
+  std::array<double, 3> max{};  ///< box corner, rest coordinates, metres, max >= min (kind box)
+  std::vector<index_t> nodes;   ///< node indices of the mesh the solver is built from (kind nodes)
+  std::string key_path;         ///< where the pin is in the script, e.g. "simulation.pins[1]"
+};
+
+/// A static obstacle nodes are pushed out of after every substep.
+struct Collider {
+  enum class Kind { plane, sphere };
+  Kind kind = Kind::plane;
+  std::array<double, 3> point{};          ///< a point of the plane, or the sphere's centre, metres
+  std::array<double, 3> normal{0, 1, 0};  ///< plane: the free side's normal, unit length (kind plane)
+  double radius = 0;                      ///< sphere radius, metres, > 0 (kind sphere)
+};
+
+/// Chebyshev semi-iteration of the Jacobi global step (Wang 2015).
+struct ChebyshevOptions {
+  /// Estimated spectral radius of the Jacobi iteration, in (0, 1). Too low wastes the
+  /// acceleration, too high overshoots and oscillates; 0.995 measured best on 1 m sheets at the
+  /// default stiffness (docs/simulation.md).
+  double rho = 0.995;
+  double gamma = 0.9;  ///< under-relaxation of each Jacobi update, in (0, 1]
+  int delay = 10;      ///< plain (under-relaxed) Jacobi iterations before the acceleration starts, >= 0
+};
+
+/// The `simulation` block of a cut script, in physical units. Defaults suit a 1 m cloth.
+struct SimulationOptions {
+  double fps = 24;       ///< frames per second; one `PdSolver::step` advances 1 / fps seconds
+  int substeps = 4;      ///< implicit Euler steps per frame, >= 1
+  int iterations = 100;  ///< local/global iterations per substep, >= 1 (fixed: no convergence test)
+  std::array<double, 3> gravity{0, -9.81, 0};  ///< m/s²
+  /// Fraction of the velocity removed per second, in [0, 1]: each substep of h seconds multiplies
+  /// velocities by (1 - damping)^h. 0 adds no damping (implicit Euler still dissipates some).
+  double damping = 0.1;
+  double density = 0.2;  ///< kg/m² of rest area, > 0
+  /// Membrane stiffness of the edge springs, N/m (energy per rest area per squared strain), >= 0.
+  double stretch_stiffness = 1000;
+  /// Bending rigidity of the edge hinges, N·m (energy per squared dihedral angle, scaled by the
+  /// hinge's shape as in discrete shells), >= 0.
+  double bend_stiffness = 1e-4;
+  ChebyshevOptions chebyshev;
+  std::vector<Pin> pins;
+  std::vector<Collider> colliders;
+  /// The file the options came from, named in errors the solver raises (pins out of range).
+  std::string source = "(simulation options)";
+
+  /// Length of one implicit Euler step, seconds.
+  double step_seconds() const { return 1.0 / (fps * substeps); }
+};
+
+/// Bounds of the `simulation` keys, checked when a script is parsed (an input error naming the key
+/// otherwise). Each is far beyond what cloth needs, and together they keep the solver's
+/// single-precision state finite: at the extremes (the largest gravity, the longest step, the
+/// stiffest and lightest cloth) a 1 m sheet stays finite frame after frame. docs/simulation.md
+/// gives the reasons.
+namespace simulation_limits {
+inline constexpr double min_fps = 0.1;    ///< 1/s: one frame per 10 s
+inline constexpr double max_fps = 1e5;    ///< 1/s: a high-speed camera
+inline constexpr int max_substeps = 10000;
+inline constexpr int max_iterations = 100000;
+/// substeps × iterations, the solver iterations of one frame.
+inline constexpr long long max_iterations_per_frame = 1000000;
+inline constexpr double max_gravity = 1e4;   ///< m/s², the length of `gravity`: about 1000 g
+inline constexpr double min_density = 1e-4;  ///< kg/m²: a hundredth of the lightest tissue paper
+inline constexpr double max_density = 1e4;   ///< kg/m²: a metre-thick slab of stone
+inline constexpr double max_stretch_stiffness = 1e9;  ///< N/m: a centimetre of steel plate
+inline constexpr double max_bend_stiffness = 1e3;     ///< N·m: a few millimetres of steel plate
+inline constexpr int max_chebyshev_delay = 100000;
+/// Metres: the largest coordinate of a collider's point or centre, and its radius.
+inline constexpr double max_collider_extent = 1e9;
+}  // namespace simulation_limits
+
+}  // namespace tear

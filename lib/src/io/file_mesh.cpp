@@ -1,0 +1,122 @@
+#include "io/file_mesh.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "tear/error.h"
+
+namespace tear {
+
+Error no_mesh_named(const std::string& path, const std::string& mesh_name, const std::vector<std::string>& names) {
+  std::string listed;
+  for (const std::string& name : names) listed += (listed.empty() ? "'" : ", '") + name + "'";
+  return input_error(path, "no mesh named '" + mesh_name +
+                               "'; meshes in the file: " + (listed.empty() ? std::string("none with a name") : listed));
+}
+
+void append_name(std::vector<std::string>& names, const std::string& name) {
+  if (!name.empty() && std::find(names.begin(), names.end(), name) == names.end()) names.push_back(name);
+}
+
+Transform Transform::operator*(const Transform& o) const {
+  Transform t;
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      t.m[r][c] = m[r][0] * o.m[0][c] + m[r][1] * o.m[1][c] + m[r][2] * o.m[2][c] + m[r][3] * o.m[3][c];
+    }
+  }
+  return t;
+}
+
+bool Transform::is_identity() const {
+  for (int r = 0; r < 4; ++r) {
+    for (int c = 0; c < 4; ++c) {
+      if (m[r][c] != (r == c ? 1.0 : 0.0)) return false;
+    }
+  }
+  return true;
+}
+
+double Transform::linear_determinant() const {
+  return m[0][0] * (m[1][1] * m[2][2] - m[1][2] * m[2][1]) - m[0][1] * (m[1][0] * m[2][2] - m[1][2] * m[2][0]) +
+         m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
+}
+
+void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normals, bool with_velocities, bool with_ids,
+                   FileMesh& out) {
+  const Transform& t = placed.transform;
+  const bool identity = t.is_identity();
+  const double det = t.linear_determinant();
+  // A mirroring transform turns counter-clockwise faces clockwise; swapping two corners restores it.
+  const bool mirrored = det < 0.0;
+  // Normals go through the inverse transpose of the linear part: the cofactor matrix over det.
+  double normal_matrix[3][3];
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c) {
+      const int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
+      const double cofactor = t.m[r1][c1] * t.m[r2][c2] - t.m[r1][c2] * t.m[r2][c1];
+      normal_matrix[r][c] = det != 0.0 ? cofactor / det : cofactor;
+    }
+  }
+
+  Mesh& mesh = out.mesh;
+  const index_t base = mesh.node_count();
+  for (index_t v = 0; v < placed.vertex_count; ++v) {
+    const float* p = placed.vertex_pos + 3 * v;
+    if (identity) {
+      mesh.node_pos.insert(mesh.node_pos.end(), p, p + 3);
+    } else {
+      for (int r = 0; r < 3; ++r) {
+        mesh.node_pos.push_back(static_cast<float>(t.m[r][0] * p[0] + t.m[r][1] * p[1] + t.m[r][2] * p[2] + t.m[r][3]));
+      }
+    }
+    if (with_velocities) {
+      const float* w = placed.vertex_vel ? placed.vertex_vel + 3 * v : nullptr;
+      for (int r = 0; r < 3; ++r) {
+        if (!w) {
+          mesh.node_vel.push_back(0.0f);
+        } else if (identity) {
+          mesh.node_vel.push_back(w[r]);
+        } else {
+          mesh.node_vel.push_back(static_cast<float>(t.m[r][0] * w[0] + t.m[r][1] * w[1] + t.m[r][2] * w[2]));
+        }
+      }
+    }
+    if (with_ids) out.vertex_id.push_back(placed.vertex_id ? placed.vertex_id[v] : none);
+  }
+
+  const std::vector<index_t>& triangles = *placed.triangles;
+  for (std::size_t f = 0; f + 2 < triangles.size(); f += 3) {
+    for (int k = 0; k < 3; ++k) {
+      const index_t v = triangles[f + (mirrored && k > 0 ? 3 - k : k)];
+      mesh.face_nodes.push_back(base + v);
+      if (with_uv) {
+        if (placed.vertex_uv) {
+          mesh.corner_uv.insert(mesh.corner_uv.end(), placed.vertex_uv + 2 * v, placed.vertex_uv + 2 * v + 2);
+        } else {
+          mesh.corner_uv.insert(mesh.corner_uv.end(), {0.0f, 0.0f});
+        }
+      }
+      if (!with_normals) continue;
+      if (!placed.vertex_normal) {
+        mesh.corner_normal.insert(mesh.corner_normal.end(), {0.0f, 0.0f, 0.0f});
+        continue;
+      }
+      const float* n = placed.vertex_normal + 3 * v;
+      if (identity) {
+        mesh.corner_normal.insert(mesh.corner_normal.end(), n, n + 3);
+        continue;
+      }
+      double m[3];
+      for (int r = 0; r < 3; ++r)
+        m[r] = normal_matrix[r][0] * n[0] + normal_matrix[r][1] * n[1] + normal_matrix[r][2] * n[2];
+      const double length = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+      const double scale = length > 0.0 ? 1.0 / length : 0.0;
+      for (int r = 0; r < 3; ++r) mesh.corner_normal.push_back(static_cast<float>(m[r] * scale));
+    }
+  }
+}
+
+}  // namespace tear

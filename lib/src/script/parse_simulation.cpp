@@ -1,0 +1,183 @@
+#include "script/parse_simulation.h"
+
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "script/json_reader.h"
+#include "script/unit_vector.h"
+#include "tear/error.h"
+
+namespace tear {
+
+namespace {
+
+using namespace json_reading;
+using Reader = JsonReader;
+namespace limits = simulation_limits;
+
+/// A bound as a message writes it: 100000, 0.1, 1e+09.
+std::string shown(double x) {
+  std::ostringstream out;
+  out << x;
+  return out.str();
+}
+
+/// An array of 3 finite numbers each within [-bound, bound].
+std::array<double, 3> bounded_point(const Reader& reader, const json& value, const std::string& path, double bound,
+                                    const std::string& what) {
+  const auto p = reader.point<3>(value, path);
+  for (int a = 0; a < 3; ++a)
+    if (!(std::abs(p[a]) <= bound))
+      reader.fail(child_path(path, a), "expected a number in [-" + shown(bound) + ", " + shown(bound) + "] (" + what +
+                                           "), got " + describe(value[a]));
+  return p;
+}
+
+Pin parse_pin(const Reader& reader, const json& value, const std::string& path) {
+  reader.expect_object(value, path, {"box", "nodes"});
+  if (value.size() != 1) reader.fail(path, "expected exactly one of \"box\" or \"nodes\", got " + describe(value));
+  Pin pin;
+  pin.key_path = path;
+  if (value.contains("box")) {
+    const std::string box_path = child_path(path, "box");
+    const json& box = value["box"];
+    reader.expect_object(box, box_path, {"min", "max"});
+    pin.kind = Pin::Kind::box;
+    pin.min = reader.point<3>(reader.member(box, box_path, "min", "an array of 3 numbers"), child_path(box_path, "min"));
+    pin.max = reader.point<3>(reader.member(box, box_path, "max", "an array of 3 numbers"), child_path(box_path, "max"));
+    for (int a = 0; a < 3; ++a)
+      if (pin.max[a] < pin.min[a])
+        reader.fail(child_path(child_path(box_path, "max"), a), "expected a number >= min[" + std::to_string(a) + "] (" +
+                                                                    json(pin.min[a]).dump() + "), got " +
+                                                                    json(pin.max[a]).dump());
+  } else {
+    const std::string nodes_path = child_path(path, "nodes");
+    const json& nodes = value["nodes"];
+    if (!nodes.is_array()) reader.fail(nodes_path, "expected an array of node indices, got " + describe(nodes));
+    pin.kind = Pin::Kind::nodes;
+    for (std::size_t i = 0; i < nodes.size(); ++i)
+      pin.nodes.push_back(static_cast<index_t>(reader.integer(
+          nodes[i], child_path(nodes_path, i), 0, std::numeric_limits<index_t>::max(), "a node index (an integer >= 0)")));
+  }
+  return pin;
+}
+
+Collider parse_collider(const Reader& reader, const json& value, const std::string& path) {
+  reader.expect_object(value, path, {"plane", "sphere"});
+  if (value.size() != 1) reader.fail(path, "expected exactly one of \"plane\" or \"sphere\", got " + describe(value));
+  Collider collider;
+  const double extent = limits::max_collider_extent;
+  if (value.contains("plane")) {
+    const std::string plane_path = child_path(path, "plane");
+    const json& plane = value["plane"];
+    reader.expect_object(plane, plane_path, {"point", "normal"});
+    collider.kind = Collider::Kind::plane;
+    collider.point = bounded_point(reader, reader.member(plane, plane_path, "point", "an array of 3 numbers"),
+                                   child_path(plane_path, "point"), extent, "metres");
+    const auto n = reader.point<3>(reader.member(plane, plane_path, "normal", "a non-zero [x, y, z] vector"),
+                                   child_path(plane_path, "normal"));
+    collider.normal = unit_vector(n);
+    if (collider.normal == std::array<double, 3>{0, 0, 0})
+      reader.fail(child_path(plane_path, "normal"), "expected a non-zero [x, y, z] vector, got [0, 0, 0]");
+  } else {
+    const std::string sphere_path = child_path(path, "sphere");
+    const json& sphere = value["sphere"];
+    reader.expect_object(sphere, sphere_path, {"center", "radius"});
+    collider.kind = Collider::Kind::sphere;
+    collider.point = bounded_point(reader, reader.member(sphere, sphere_path, "center", "an array of 3 numbers"),
+                                   child_path(sphere_path, "center"), extent, "metres");
+    collider.radius = reader.number(reader.member(sphere, sphere_path, "radius", "a number in (0, " + shown(extent) + "]"),
+                                    child_path(sphere_path, "radius"), "a number in (0, " + shown(extent) + "] (metres)",
+                                    [&](double x) { return x > 0 && x <= extent; });
+  }
+  return collider;
+}
+
+/// A number in [lo, hi], "expected a number in [lo, hi] (unit), got ...".
+double number_in(const Reader& reader, const json& value, const std::string& path, double lo, double hi,
+                 const std::string& unit) {
+  return reader.number(value, path, "a number in [" + shown(lo) + ", " + shown(hi) + "] (" + unit + ")",
+                       [&](double x) { return x >= lo && x <= hi; });
+}
+
+}  // namespace
+
+SimulationOptions parse_simulation(const json& block, const std::string& script_path) {
+  SimulationOptions options;
+  options.source = script_path;
+  if (block.is_null()) return options;
+  const Reader reader(script_path);
+  const std::string root = "simulation";
+  reader.expect_object(block, root,
+                       {"fps", "substeps", "iterations", "gravity", "damping", "density", "stretch_stiffness",
+                        "bend_stiffness", "chebyshev", "pins", "colliders"});
+  if (block.contains("fps"))
+    options.fps = number_in(reader, block["fps"], child_path(root, "fps"), limits::min_fps, limits::max_fps,
+                            "frames per second");
+  const std::string substeps_range = "an integer in 1.." + std::to_string(limits::max_substeps);
+  if (block.contains("substeps"))
+    options.substeps = static_cast<int>(reader.integer(block["substeps"], child_path(root, "substeps"), 1,
+                                                       limits::max_substeps, substeps_range));
+  const std::string iterations_range = "an integer in 1.." + std::to_string(limits::max_iterations);
+  if (block.contains("iterations"))
+    options.iterations = static_cast<int>(reader.integer(block["iterations"], child_path(root, "iterations"), 1,
+                                                         limits::max_iterations, iterations_range));
+  // Each is allowed alone; together they are the iterations of a frame, which bound its time.
+  const long long per_frame = static_cast<long long>(options.substeps) * options.iterations;
+  if (per_frame > limits::max_iterations_per_frame)
+    reader.fail(child_path(root, block.contains("iterations") ? "iterations" : "substeps"),
+                "substeps × iterations is " + std::to_string(per_frame) + " solver iterations per frame, more than " +
+                    std::to_string(limits::max_iterations_per_frame) + " (" + std::to_string(options.substeps) +
+                    " × " + std::to_string(options.iterations) + ")");
+  if (block.contains("gravity")) {
+    const std::string path = child_path(root, "gravity");
+    options.gravity = reader.point<3>(block["gravity"], path);
+    if (!(vector_length(options.gravity) <= limits::max_gravity))
+      reader.fail(path, "expected a vector of length at most " + shown(limits::max_gravity) + " (m/s²), got " +
+                            block["gravity"].dump());
+  }
+  if (block.contains("damping"))
+    options.damping = number_in(reader, block["damping"], child_path(root, "damping"), 0, 1, "fraction per second");
+  if (block.contains("density"))
+    options.density = number_in(reader, block["density"], child_path(root, "density"), limits::min_density,
+                                limits::max_density, "kg/m²");
+  if (block.contains("stretch_stiffness"))
+    options.stretch_stiffness = number_in(reader, block["stretch_stiffness"], child_path(root, "stretch_stiffness"), 0,
+                                          limits::max_stretch_stiffness, "N/m");
+  if (block.contains("bend_stiffness"))
+    options.bend_stiffness = number_in(reader, block["bend_stiffness"], child_path(root, "bend_stiffness"), 0,
+                                       limits::max_bend_stiffness, "N·m");
+  if (block.contains("chebyshev")) {
+    const std::string path = child_path(root, "chebyshev");
+    const json& cheb = block["chebyshev"];
+    reader.expect_object(cheb, path, {"rho", "gamma", "delay"});
+    if (cheb.contains("rho"))
+      options.chebyshev.rho =
+          reader.number(cheb["rho"], child_path(path, "rho"), "a number in (0, 1)", [](double x) { return x > 0 && x < 1; });
+    if (cheb.contains("gamma"))
+      options.chebyshev.gamma = reader.number(cheb["gamma"], child_path(path, "gamma"), "a number in (0, 1]",
+                                              [](double x) { return x > 0 && x <= 1; });
+    if (cheb.contains("delay"))
+      options.chebyshev.delay = static_cast<int>(reader.integer(cheb["delay"], child_path(path, "delay"), 0,
+                                                                limits::max_chebyshev_delay,
+                                                                "an integer in 0.." +
+                                                                    std::to_string(limits::max_chebyshev_delay)));
+  }
+  if (block.contains("pins")) {
+    const std::string path = child_path(root, "pins");
+    const json& pins = block["pins"];
+    if (!pins.is_array()) reader.fail(path, "expected an array of pins, got " + describe(pins));
+    for (std::size_t i = 0; i < pins.size(); ++i) options.pins.push_back(parse_pin(reader, pins[i], child_path(path, i)));
+  }
+  if (block.contains("colliders")) {
+    const std::string path = child_path(root, "colliders");
+    const json& colliders = block["colliders"];
+    if (!colliders.is_array()) reader.fail(path, "expected an array of colliders, got " + describe(colliders));
+    for (std::size_t i = 0; i < colliders.size(); ++i)
+      options.colliders.push_back(parse_collider(reader, colliders[i], child_path(path, i)));
+  }
+  return options;
+}
+
+}  // namespace tear

@@ -1,0 +1,216 @@
+// Outputs before a command writes them: no output may be an input, folders must be writable, and
+// the temporary files of killed runs are cleared; through the library and through the binary.
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "catch.h"
+#include "cli_support.h"
+#include "tear/error.h"
+#include "tear/frame_path.h"
+#include "tear/output_files.h"
+#include "tear/write_mesh.h"
+
+namespace fs = std::filesystem;
+using tear::NamedPath;
+using tear::test::quoted;
+using tear::test::read_bytes;
+using tear::test::Run;
+using tear::test::TempDir;
+
+namespace {
+
+/// The error `check_output_files` throws, or kind 0 with an empty message when it passes.
+std::pair<int, std::string> outputs_error(const std::vector<NamedPath>& inputs, const std::string& pattern,
+                                          int frame_count, const std::vector<NamedPath>& outputs) {
+  try {
+    if (pattern.empty()) {
+      tear::check_output_files(inputs, nullptr, 0, outputs);
+    } else {
+      const tear::FramePattern frames(pattern);
+      tear::check_output_files(inputs, &frames, frame_count, outputs);
+    }
+  } catch (const tear::Error& e) {
+    return {e.exit_code(), e.what()};
+  }
+  return {0, ""};
+}
+
+std::vector<std::string> names_in(const fs::path& folder) {
+  std::vector<std::string> names;
+  for (const auto& entry : fs::directory_iterator(folder)) names.push_back(entry.path().filename().string());
+  std::sort(names.begin(), names.end());
+  return names;
+}
+
+const char* const slit_script =
+    R"({ "version": 1, "frames": 3, "cuts": [ { "frame": 1, "space": "rest-xy", "polyline": [[-0.1, 0.53], [0.56, 0.53]] } ] })";
+
+}  // namespace
+
+TEST_CASE("output_files: an output that is an input is refused, by any path to it", "[outputs]") {
+  TempDir dir;
+  const fs::path mesh = dir.file("cloth.obj", "v 0 0 0\n"), script = dir.file("shot.json", "{}");
+  fs::create_directory(dir / "sub");
+  fs::create_symlink(mesh, dir / "link.obj");
+  fs::create_hard_link(mesh, dir / "hard.obj");
+  const std::vector<NamedPath> inputs = {{"mesh", mesh.string()}, {"script", script.string()}};
+  const std::string folder = dir.path.string();
+  struct Case {
+    std::string pattern;
+    int frames;
+    std::string report, names;
+  };
+  const Case cases[] = {
+      {folder + "/cloth.obj", 1, "", "frame 1 is the input mesh"},
+      {folder + "/sub/../cloth.obj", 1, "", "frame 1 is the input mesh"},
+      {folder + "/new/../cloth.obj", 1, "", "frame 1 is the input mesh"},  // once new/ is made
+      {folder + "/./link.obj", 1, "", "frame 1 is the input mesh"},
+      {folder + "/hard.obj", 1, "", "frame 1 is the input mesh"},
+      {folder + "/f.####.obj", 3, folder + "/shot.json", "the report is the input script"},
+      {folder + "/f.####.obj", 3, folder + "/sub/../link.obj", "the report is the input mesh"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.pattern << " / " << c.report);
+    const auto [code, message] = outputs_error(inputs, c.pattern, c.frames, {{"the report", c.report}});
+    CHECK(code == 2);
+    CHECK(message.find(c.names) != std::string::npos);
+    CHECK(message.find("refusing to overwrite it") != std::string::npos);
+  }
+  // Frame 12 of "c{frame}.obj" would be c12.obj: an input there is found among the run's frames.
+  dir.file("c12.obj", "");
+  const auto [code, message] =
+      outputs_error({{"mesh", (dir / "c12.obj").string()}}, folder + "/c{frame}.obj", 20, {});
+  CHECK(code == 2);
+  CHECK(message == (dir / "c12.obj").string() + ": frame 12 is the input mesh " + (dir / "c12.obj").string() +
+                       "; refusing to overwrite it (choose another path)");
+  CHECK(outputs_error({{"mesh", (dir / "c12.obj").string()}}, folder + "/c{frame}.obj", 11, {}).first == 0);
+  // Other files are fine, and nothing was created.
+  CHECK(outputs_error(inputs, folder + "/out/f.####.obj", 3, {{"the report", folder + "/out/r.json"}}).first == 0);
+  CHECK_FALSE(fs::exists(dir / "out"));
+  CHECK_FALSE(fs::exists(dir / "new"));
+}
+
+TEST_CASE("output_files: the report may not be a frame, and folders must be writable", "[outputs]") {
+  TempDir dir;
+  const std::string folder = dir.path.string();
+  const auto same = outputs_error({}, folder + "/f.####.obj", 5, {{"the report", folder + "/./f.0004.obj"}});
+  CHECK(same.first == 1);
+  CHECK(same.second == folder + "/./f.0004.obj: the report is also frame 4");
+  const auto twice = outputs_error({}, "", 0, {{"the report", "a/r.json"}, {"the JSON output", "a/../a/r.json"}});
+  CHECK(twice.first == 1);
+  CHECK(twice.second == "a/../a/r.json: the JSON output is also the report");
+
+  dir.file("file", "");
+  const auto under_file = outputs_error({}, folder + "/file/x/f.####.obj", 2, {});
+  CHECK(under_file.first == 3);
+  CHECK(under_file.second == folder + "/file/x: cannot create the output folder: Not a directory");
+  const auto report = outputs_error({}, "", 0, {{"the report", folder + "/file/r.json"}});
+  CHECK(report.first == 3);
+  CHECK(report.second == folder + "/file: cannot write in the output folder: Not a directory");
+  fs::create_directory(dir / "folder");
+  const auto is_folder = outputs_error({}, "", 0, {{"the report", folder + "/folder"}});
+  CHECK(is_folder.first == 3);
+  CHECK(is_folder.second == folder + "/folder: cannot write the report: it is a folder");
+  if (::geteuid() != 0) {  // root writes anywhere
+    fs::create_directory(dir / "locked");
+    ::chmod((dir / "locked").c_str(), 0555);
+    const auto locked = outputs_error({}, folder + "/locked/deeper/f.####.obj", 1, {});
+    CHECK(locked.first == 3);
+    CHECK(locked.second == folder + "/locked/deeper: cannot create the output folder: Permission denied");
+    ::chmod((dir / "locked").c_str(), 0755);
+  }
+}
+
+TEST_CASE("output_files: temporaries of runs that are gone are removed, nothing else", "[outputs]") {
+  TempDir dir;
+  fs::create_directory(dir / "out");
+  const std::string out = (dir / "out").string();
+  // A pid that no process has (above the kernel's limit) and one that runs (this process's parent).
+  const std::string gone = "999999999", alive = std::to_string(::getppid()), self = std::to_string(::getpid());
+  for (const std::string& name : std::vector<std::string>{".f.0001.obj.tmp." + gone, ".f.0002.obj.tmp." + self, ".f.0001.obj.tmp." + alive, ".f.0009.obj.tmp." + gone,
+        ".f.0001.obj.tmp.12x", ".f.0001.obj.tmpx." + gone, "f.0001.obj.tmp." + gone, ".r.json.tmp." + gone, "keep.txt"})
+    dir.file("out/" + name, "partial");
+  const std::size_t removed =
+      tear::remove_stale_temporaries({out + "/f.0001.obj", out + "/f.0002.obj", out + "/r.json", out + "/missing/x"});
+  CHECK(removed == 3);
+  std::vector<std::string> kept = {".f.0001.obj.tmp." + alive, ".f.0001.obj.tmp.12x", ".f.0001.obj.tmpx." + gone,
+                                   ".f.0009.obj.tmp." + gone, "f.0001.obj.tmp." + gone, "keep.txt"};
+  std::sort(kept.begin(), kept.end());
+  CHECK(names_in(dir / "out") == kept);
+  // A bare file name lives in the current folder; a missing folder is no error.
+  CHECK(tear::remove_stale_temporaries({(dir / "nowhere/f.obj").string(), ""}) == 0);
+}
+
+TEST_CASE("run: an output that is an input is refused before anything is written", "[outputs][cli]") {
+  TempDir dir;
+  const fs::path mesh = dir / "sheet.obj";
+  tear::write_mesh(tear::test::regular_sheet(), mesh.string());
+  const fs::path script = dir.file("shot.json", slit_script);
+  const std::string mesh_bytes = read_bytes(mesh), script_bytes = read_bytes(script);
+  const std::string run = "run --device cpu " + quoted(mesh) + " " + quoted(script) + " ";
+  const fs::path one = dir.file("one.json", R"({ "version": 1, "frames": 1 })");
+  const std::pair<std::string, std::string> cases[] = {
+      {"run --device cpu " + quoted(mesh) + " " + quoted(one) + " -o " + quoted(mesh), "frame 1 is the input mesh"},
+      {run + "-o " + quoted(dir / "out/f.####.obj") + " --report " + quoted(mesh), "the report is the input mesh"},
+      {run + "-o " + quoted(dir / "out/f.####.obj") + " --report " + quoted(script), "the report is the input script"},
+      {run + "-o " + quoted(dir / "out/../sheet.obj") + " --frames 1", "frame 1 is the input mesh"},
+  };
+  for (const auto& [args, words] : cases) {
+    const Run r = dir.tear(args);
+    INFO(args << "\nstderr: " << r.err);
+    CHECK(r.exit_code == 2);
+    CHECK(r.out.empty());
+    CHECK(std::count(r.err.begin(), r.err.end(), '\n') == 1);
+    CHECK(r.err.find(words) != std::string::npos);
+    CHECK_FALSE(fs::exists(dir / "out"));
+  }
+  CHECK(read_bytes(mesh) == mesh_bytes);
+  CHECK(read_bytes(script) == script_bytes);
+}
+
+TEST_CASE("run: unwritable outputs are found before the first frame, stale temporaries cleared", "[outputs][cli]") {
+  TempDir dir;
+  const fs::path mesh = dir / "sheet.obj";
+  tear::write_mesh(tear::test::regular_sheet(), mesh.string());
+  const fs::path script = dir.file("shot.json", slit_script);
+  dir.file("file", "");
+  const std::string run = "run --device cpu " + quoted(mesh) + " " + quoted(script) + " ";
+  const Run report = dir.tear(run + "-o " + quoted(dir / "out/f.####.obj") + " --report " + quoted(dir / "file/r.json"));
+  INFO(report.err);
+  CHECK(report.exit_code == 3);
+  CHECK(report.err == "tear: " + (dir / "file").string() + ": cannot write in the output folder: Not a directory\n");
+  CHECK_FALSE(fs::exists(dir / "out"));  // found before frame 1 was written
+
+  // A killed run left a temporary file of frame 2: the next run removes it and writes the frame.
+  fs::create_directory(dir / "out");
+  dir.file("out/.f.0002.obj.tmp.999999999", "half a frame");
+  dir.file("out/.other.obj.tmp.999999999", "not ours");
+  const Run ok = dir.tear(run + "-o " + quoted(dir / "out/f.####.obj"));
+  INFO(ok.err);
+  CHECK(ok.exit_code == 0);
+  CHECK(names_in(dir / "out") ==
+        std::vector<std::string>{".other.obj.tmp.999999999", "f.0001.obj", "f.0002.obj", "f.0003.obj"});
+}
+
+TEST_CASE("bench: bad sizes and an unwritable --json are refused before the first line", "[outputs][cli][bench]") {
+  TempDir dir;
+  dir.file("file", "");
+  for (const std::string faces : {"3", "6", "0", "2822,5", "536870912"}) {
+    const Run r = dir.tear("bench --device cpu --only remesh --repeats 1 --warmup 0 --faces " + faces);
+    INFO(faces << ": " << r.err);
+    CHECK(r.exit_code == 1);
+    CHECK(r.out.empty());
+    CHECK(r.err.find("--faces") != std::string::npos);
+  }
+  const Run json = dir.tear("bench --device cpu --only remesh --repeats 1 --warmup 0 --faces 2822 --json " +
+                            quoted(dir / "file/bench.json"));
+  INFO(json.err);
+  CHECK(json.exit_code == 3);
+  CHECK(json.out.empty());
+  CHECK(json.err == "tear: " + (dir / "file").string() + ": cannot write in the output folder: Not a directory\n");
+}

@@ -1,0 +1,77 @@
+#include "farm.h"
+
+#include <csignal>
+#include <cstdio>
+
+#include "tear/error.h"
+
+namespace tear::cli {
+
+namespace {
+
+volatile std::sig_atomic_t stop_requested = 0;
+
+extern "C" void request_stop(int) { stop_requested = 1; }
+
+void install_stop_handlers() {
+  struct sigaction action {};
+  action.sa_handler = request_stop;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;  // a write in progress goes on; the run stops after its frame
+  sigaction(SIGTERM, &action, nullptr);
+  sigaction(SIGINT, &action, nullptr);
+}
+
+}  // namespace
+
+void add_farm_options(CLI::App& command, FarmOptions& options) {
+  command
+      .add_option("--checkpoint", options.checkpoint_path,
+                  "Write the state needed to go on bit-exactly to PATH (atomically) after every frame written, "
+                  "or every --checkpoint-every frames, and when stopped")
+      ->type_name("PATH");
+  command
+      .add_option("--checkpoint-every", options.checkpoint_every,
+                  "Write the checkpoint after every N-th frame (and after the last, and when stopped)")
+      ->type_name("N")
+      ->check(CLI::Range(1, 1000000))
+      ->capture_default_str();
+  command.add_flag("--resume", options.resume,
+                   "Go on after the frame of the --checkpoint when it exists and was made from the same inputs "
+                   "(exit 2 when not); start from the first frame when it does not exist");
+  command
+      .add_option("--progress", options.progress,
+                  "Progress on standard error: 'bar', 'lines' (one line per frame: 'frame 12/48 (25%)'), 'none', "
+                  "or 'auto' (the bar on a terminal, nothing otherwise)")
+      ->type_name("auto|bar|lines|none")
+      ->check(CLI::IsMember({"auto", "bar", "lines", "none"}))
+      ->capture_default_str();
+}
+
+void apply_farm_options(const FarmOptions& options, RunOptions& run) {
+  if (options.resume && options.checkpoint_path.empty())
+    throw Error(ErrorKind::usage, "--resume needs --checkpoint PATH (the checkpoint to go on from)");
+  run.checkpoint_path = options.checkpoint_path;
+  run.checkpoint_every = options.checkpoint_every;
+  run.resume = options.resume;
+  install_stop_handlers();
+  run.stop = &stop_requested;
+}
+
+FrameProgress::FrameProgress(const std::string& mode, int total) : lines_(mode == "lines"), total_(total > 0 ? total : 1) {
+  if (mode == "bar" || mode == "auto") bar_ = std::make_unique<ProgressBar>(total, mode == "bar");
+}
+
+void FrameProgress::frame(int done, const std::string& detail) {
+  if (bar_) bar_->update(done, detail);
+  if (lines_) {
+    std::fprintf(stderr, "frame %d/%d (%d%%)\n", done, total_, static_cast<int>(100LL * done / total_));
+    std::fflush(stderr);
+  }
+}
+
+void FrameProgress::finish() {
+  if (bar_) bar_->finish();
+}
+
+}  // namespace tear::cli

@@ -1,0 +1,44 @@
+// tear CLI: what a farm needs of `run` and `demo`: checkpoints, resuming, stopping on SIGTERM or
+// SIGINT after a whole frame, and progress lines a farm manager can parse (docs/cli.md, "On a farm").
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include <CLI/CLI.hpp>
+
+#include "progress.h"
+#include "tear/run_cuts.h"
+
+namespace tear::cli {
+
+struct FarmOptions {
+  std::string checkpoint_path;
+  int checkpoint_every = 1;
+  bool resume = false;
+  std::string progress = "auto";
+};
+
+/// Adds `--checkpoint PATH`, `--checkpoint-every N`, `--resume` and `--progress auto|bar|lines|none`.
+void add_farm_options(CLI::App& command, FarmOptions& options);
+
+/// Copies the checkpoint options into `run`, installs the SIGTERM/SIGINT handlers that stop the run
+/// after the frame being written (`RunOptions::stop`), and checks the combination (`--resume`
+/// needs `--checkpoint`: a usage `Error`).
+void apply_farm_options(const FarmOptions& options, RunOptions& run);
+
+/// Progress of a run's frames on standard error: `bar` draws a bar, `lines` prints one line per
+/// frame, `frame 12/48 (25%)`, `none` nothing; `auto` is the bar on a terminal, nothing otherwise.
+class FrameProgress {
+ public:
+  FrameProgress(const std::string& mode, int total);
+  void frame(int done, const std::string& detail);
+  void finish();
+
+ private:
+  bool lines_;
+  int total_;
+  std::unique_ptr<ProgressBar> bar_;
+};
+
+}  // namespace tear::cli
