@@ -347,7 +347,8 @@ TEST_CASE("run: --start-frame numbers files, -v lines and the report, the script
   CHECK(file_names(dir / "busy") == std::vector<std::string>{"shot.usda"});
 }
 
-TEST_CASE("demo: -o with a .usda writes one layer, with a frame pattern the frames, and --start-frame numbers them", "[usd]") {
+TEST_CASE("demo: -o with a .usda writes one layer, with a frame pattern the frames, and --start-frame numbers them",
+          "[usd]") {
   TempDir dir;
   const std::string device = " --device " + std::string(tear::to_string(test_device()));
   const Run layer = dir.tear("demo --frames 2 --start-frame 7 -o " + quoted(dir / "x.usda") + device);
