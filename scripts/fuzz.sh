@@ -23,8 +23,9 @@ mkdir -p "$corpus" "$artifacts"
 # One OpenMP thread: a fuzzing process is one core's worth of work, and libFuzzer's coverage and
 # timing stay per input.
 export OMP_NUM_THREADS=1 OMP_WAIT_POLICY=passive
+# Every sanitizer report is a failure, but for the suppressed idioms of third-party code.
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_leaks=1}
-export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
+export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1:abort_on_error=1:suppressions=$PWD/tests/sanitizers/ubsan.supp}
 seconds=$((minutes * 60))
 options=(-max_total_time="$seconds" -timeout=20 -rss_limit_mb=2048 -max_len=65536 -print_final_stats=1
   -artifact_prefix="$artifacts/" -fork="$jobs" -ignore_crashes=1 -ignore_timeouts=1 -ignore_ooms=1)

@@ -32,6 +32,18 @@ void add_demo_command(CLI::App& app);
 /// `tear validate SCRIPT [MESH]`: the script's checks, and with MESH those of `tear run` against it.
 void add_validate_command(CLI::App& app);
 
+/// `tear diff A B`: two meshes, or two frame sequences, compared the way a golden-file test needs.
+void add_diff_command(CLI::App& app);
+
+/// Thrown by a command that finished its work and must exit with `code` without a message (`tear
+/// diff` found a difference: 5). main.cpp returns the code.
+struct ExitCode {
+  int code;
+};
+
+/// A CLI11 check: a finite number >= 0 (CLI11's own NonNegativeNumber lets "nan" and "inf" through).
+CLI::Validator finite_non_negative();
+
 /// Adds `--device auto|cpu|cuda|cuda:N` (default auto) to `command`, stored in `spec`.
 /// Pass the result to `tear::select_device` before reading any input, so that a wrong device is a
 /// usage error whatever the input.

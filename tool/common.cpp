@@ -40,6 +40,8 @@ std::string plural(std::int64_t n, const char* one, const char* many) {
 
 }  // namespace
 
+CLI::Validator finite_non_negative() { return CLI::Validator(check_finite_non_negative, ""); }
+
 CLI::Option* add_device_option(CLI::App& command, std::string& spec) {
   return command
       .add_option("--device", spec,
@@ -70,7 +72,7 @@ void add_read_options(CLI::App& command, ReadOptions& options) {
                   "Weld nodes whose positions differ by at most this distance per coordinate (mesh units); 0 welds "
                   "identical positions only, which joins the copies importers make at UV seams and hard edges")
       ->type_name("T")
-      ->check(CLI::Validator(check_finite_non_negative, ""))
+      ->check(finite_non_negative())
       ->capture_default_str();
   command.add_flag_callback(
       "--no-weld", [&options] { options.weld = false; },

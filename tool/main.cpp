@@ -1,5 +1,5 @@
 // The `tear` command line: the app, its subcommands, and the one place where exceptions become
-// exit codes (0 ok, 1 usage, 2 bad input, 3 runtime failure, 4 interrupted) and one-line messages.
+// exit codes (0 ok, 1 usage, 2 bad input, 3 runtime failure, 4 interrupted, 5 meshes differ) and one-line messages.
 #include <iostream>
 #include <new>
 #include <string>
@@ -38,7 +38,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", "tear " TEAR_VERSION, "Print the version and exit");
   app.require_subcommand(1);
   app.footer(
-      "Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure, 4 stopped (resumable). Run 'tear COMMAND --help' for "
+      "Exit codes: 0 ok, 1 usage error, 2 bad input, 3 runtime failure, 4 stopped (resumable), 5 meshes differ (tear "
+      "diff). Run 'tear COMMAND --help' for "
       "the options of a command; docs/cli.md describes them all.");
 
   tear::cli::add_info_command(app);
@@ -46,6 +47,7 @@ int main(int argc, char** argv) {
   tear::cli::add_validate_command(app);
   tear::cli::add_bench_command(app);
   tear::cli::add_demo_command(app);
+  tear::cli::add_diff_command(app);
 
   try {
     app.parse(argc, argv);  // the chosen subcommand runs inside, as its callback
@@ -53,6 +55,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help, --version
     return fail(1, e.what() + help_hint(app));
+  } catch (const tear::cli::ExitCode& e) {
+    return e.code;  // the command has said what it had to
   } catch (const tear::Error& e) {
     return fail(e.exit_code(), e.what());
   } catch (const std::bad_alloc&) {
