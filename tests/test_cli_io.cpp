@@ -103,7 +103,7 @@ TEST_CASE("cli: an OBJ with a UTF-8 byte order mark is read", "[cli][io]") {
   CHECK(info["faces"] == 2);
 }
 
-TEST_CASE("cli: --no-weld keeps a torn OBJ torn; tear's PLY and GLB stay torn without it", "[cli][io]") {
+TEST_CASE("cli: --no-weld keeps a torn OBJ torn, tear's PLY and GLB stay torn without it", "[cli][io]") {
   TempDir dir;
   const tear::Mesh mesh = tear::test::two_pieces();
   for (const char* format : {"obj", "ply", "glb"}) {

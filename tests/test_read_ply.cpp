@@ -114,7 +114,7 @@ TEST_CASE("read_mesh: binary PLY in either byte order, any list and index types,
   }
 }
 
-TEST_CASE("read_mesh: a face texcoord list gives corner UVs; ASCII numbers may have a plus sign", "[io][ply]") {
+TEST_CASE("read_mesh: a face texcoord list gives corner UVs, ASCII numbers may have a plus sign", "[io][ply]") {
   IoDir dir;
   const std::string path = dir.file("texcoord.ply",
                                     "ply\nformat ascii 1.0\nelement vertex 4\n"

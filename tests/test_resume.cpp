@@ -129,7 +129,7 @@ TEST_CASE("resume: runs stopped by SIGTERM and SIGKILL at random frames give the
     CHECK(entry.path().filename().string().find(".tmp.") == std::string::npos);
 }
 
-TEST_CASE("resume: a checkpoint of other inputs, or damaged, is refused with exit 2; SIGTERM exits 4", "[resume]") {
+TEST_CASE("resume: a checkpoint of other inputs, or damaged, is refused with exit 2, SIGTERM exits 4", "[resume]") {
   TempDir dir;
   tear::write_mesh(tear::test::regular_sheet(), (dir / "sheet.obj").string());
   const fs::path script = dir.file("shot.json", R"({"version": 1, "frames": 3,
@@ -176,7 +176,7 @@ TEST_CASE("resume: --progress lines prints one parsable line per frame", "[resum
   CHECK(run.err == "frame 1/4 (25%)\nframe 2/4 (50%)\nframe 3/4 (75%)\nframe 4/4 (100%)\n");
 }
 
-TEST_CASE("resume: a single USD layer cannot be checkpointed; one layer per frame can", "[resume]") {
+TEST_CASE("resume: a single USD layer cannot be checkpointed, one layer per frame can", "[resume]") {
   TempDir dir;
   tear::write_mesh(tear::test::regular_sheet(), (dir / "sheet.obj").string());
   const fs::path script = dir.file("shot.json", R"({"version": 1, "frames": 2, "cuts": []})");

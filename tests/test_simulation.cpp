@@ -298,7 +298,7 @@ TEST_CASE("simulation: numbers beyond a double are errors", "[simulation]") {
                     "s.json: simulation.gravity[1]: expected a finite number, got -1e400 (beyond the range of a double)");
 }
 
-TEST_CASE("simulation: the largest and smallest normals are normalised; a frame's iterations may reach the limit",
+TEST_CASE("simulation: the largest and smallest normals are normalised, a frame's iterations may reach the limit",
           "[simulation]") {
   const SimulationOptions o = parse_simulation(
       R"({"substeps": 10000, "iterations": 100, "colliders": [{"plane": {"point": [0, 0, 0], "normal": [1e308, 1e308, 0]}},

@@ -286,7 +286,7 @@ TEST_CASE("frame_path: a USD layer without frame number holds any number of fram
   CHECK_THROWS_AS(tear::parse_up_axis("X"), tear::Error);
 }
 
-TEST_CASE("run: --start-frame numbers files, -v lines and the report; the script's frames stay 1-based", "[usd]") {
+TEST_CASE("run: --start-frame numbers files, -v lines and the report, the script frames staying 1-based", "[usd]") {
   TempDir dir;
   const fs::path mesh = dir / "sheet.obj";
   tear::write_mesh(regular_sheet(), mesh.string());
@@ -329,15 +329,26 @@ TEST_CASE("run: --start-frame numbers files, -v lines and the report; the script
   CHECK_FALSE(fs::exists(dir / "c.usda"));
   CHECK_FALSE(fs::exists(dir / "c.0001.obj"));
 
+  // What a killed run left beside the layer (a process that no longer runs) goes with the next run.
+  fs::create_directories(dir / "stale");
+  dir.file("stale/.shot.usda.points.tmp.999999", "1: [");
+  dir.file("stale/.shot.usda.tmp.999999", "#usda 1.0\n");
+  dir.file("stale/.other.usda.points.tmp.999999", "not ours");
+  const Run stale = dir.tear(inputs + "-o " + quoted(dir / "stale/shot.usda"));
+  INFO("stderr: " << stale.err);
+  REQUIRE(stale.exit_code == 0);
+  CHECK(file_names(dir / "stale") == std::vector<std::string>{".other.usda.points.tmp.999999", "shot.usda"});
+
   // A layer that cannot be written: exit 3 naming it, nothing left beside it.
   fs::create_directories(dir / "busy/shot.usda");
   const Run busy = dir.tear(inputs + "-o " + quoted(dir / "busy/shot.usda"));
   CHECK(busy.exit_code == 3);
-  CHECK(busy.err.rfind("tear: " + (dir / "busy/shot.usda").string() + ": cannot write: ", 0) == 0);
+  CHECK(busy.err.rfind("tear: " + (dir / "busy/shot.usda").string() + ": cannot write", 0) == 0);
   CHECK(file_names(dir / "busy") == std::vector<std::string>{"shot.usda"});
 }
 
-TEST_CASE("demo: -o with a .usda writes one layer, with a frame pattern the frames; --start-frame", "[usd]") {
+TEST_CASE("demo: -o with a .usda writes one layer, with a frame pattern the frames, and --start-frame numbers them",
+          "[usd]") {
   TempDir dir;
   const std::string device = " --device " + std::string(tear::to_string(test_device()));
   const Run layer = dir.tear("demo --frames 2 --start-frame 7 -o " + quoted(dir / "x.usda") + device);

@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "tear/error.h"
+#include "tear/usd_layer.h"
 #include "tear/validate_mesh.h"
 
 namespace tear::cli {
@@ -94,6 +95,11 @@ std::vector<std::string> output_paths(const FramePattern& pattern, int frame_cou
   std::vector<std::string> paths;
   for (int frame = first_number; frame < first_number + (pattern.has_frame_number() ? frame_count : 1); ++frame)
     paths.push_back(pattern.path(frame));
+  // A USD layer for the whole run streams its samples to temporaries of their own.
+  if (!pattern.has_frame_number() && is_usd_path(pattern.pattern())) {
+    const std::vector<std::string> samples = usd_layer_sample_paths(pattern.path(first_number));
+    paths.insert(paths.end(), samples.begin(), samples.end());
+  }
   if (!report_path.empty()) paths.push_back(report_path);
   return paths;
 }

@@ -41,6 +41,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "tear/frame_path.h"
 #include "tear/frame_sink.h"
@@ -117,6 +118,12 @@ class UsdLayer final : public FrameSink {
   UsdLayerOptions options_;
   std::unique_ptr<Sequence> sequence_;
 };
+
+/// The paths whose temporary files (`.<name>.tmp.<pid>`, as `write_file_atomically` spells them)
+/// a single layer at `path` streams its samples to: `<path>.<attribute>` for every attribute a
+/// layer can hold. A run passes them to `remove_stale_temporaries` with its outputs, so that what
+/// a killed run left beside the layer goes.
+std::vector<std::string> usd_layer_sample_paths(const std::string& path);
 
 /// The text of a layer holding `mesh` as the single time sample `frame` (what `UsdLayer` writes for
 /// one frame).

@@ -357,6 +357,12 @@ bool is_usd_path(const std::string& path) {
   return extension == "usda" || extension == "usd";
 }
 
+std::vector<std::string> usd_layer_sample_paths(const std::string& path) {
+  std::vector<std::string> paths;
+  for (const Declaration& d : declarations) paths.push_back(path + "." + d.file_tag);
+  return paths;
+}
+
 std::string usda_layer_text(const Mesh& mesh, int frame, const UsdLayerOptions& options) {
   check_arrays(mesh, "USD layer");
   const AttributeSet attributes = AttributeSet::of(mesh);
