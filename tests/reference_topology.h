@@ -94,7 +94,7 @@ inline MeshReport reference_check_indices(const Mesh& mesh) {
 
 /// The `degenerate_area_ratio` rule: a repeated node, or (twice the area)^2 at most
 /// ratio^2 * (longest edge^2)^2, in double precision.
-inline bool reference_face_degenerate(const Mesh& mesh, index_t f) {
+inline bool reference_face_degenerate(const Mesh& mesh, index_t f, double ratio = degenerate_area_ratio) {
   const index_t n[3] = {mesh.face_nodes[3 * f], mesh.face_nodes[3 * f + 1], mesh.face_nodes[3 * f + 2]};
   if (n[0] == n[1] || n[1] == n[2] || n[2] == n[0]) return true;
   double p[3][3];
@@ -110,7 +110,7 @@ inline bool reference_face_degenerate(const Mesh& mesh, index_t f) {
   const double area2_sq = cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2];
   double longest_sq = 0;
   for (const auto& e : edge) longest_sq = std::max(longest_sq, e[0] * e[0] + e[1] * e[1] + e[2] * e[2]);
-  return area2_sq <= degenerate_area_ratio * degenerate_area_ratio * longest_sq * longest_sq;
+  return area2_sq <= ratio * ratio * longest_sq * longest_sq;
 }
 
 /// All counts of `validate_mesh`, from `reference_topology`. As the device code does, nothing past
@@ -122,8 +122,10 @@ inline MeshReport reference_validate_mesh(const Mesh& mesh) {
   const Topology t = reference_topology(mesh);
 
   if (!report.non_finite_nodes)
-    for (index_t f = 0; f < mesh.face_count(); ++f)
+    for (index_t f = 0; f < mesh.face_count(); ++f) {
       report.degenerate_faces += reference_face_degenerate(mesh, f) ? 1 : 0;
+      report.thin_faces += !reference_face_degenerate(mesh, f) && reference_face_degenerate(mesh, f, thin_area_ratio);
+    }
 
   // Directed half-edges of each edge: half-edge 3 f + k runs from local node k+1 to local node k+2.
   std::vector<std::vector<index_t>> edge_halves(static_cast<std::size_t>(t.edge_count));
@@ -222,7 +224,7 @@ inline std::string report_counts(const MeshReport& r) {
   out << "indices_out_of_range " << r.indices_out_of_range << ", non_finite_nodes " << r.non_finite_nodes
       << ", degenerate_faces " << r.degenerate_faces << ", non_manifold_edges " << r.non_manifold_edges
       << ", non_manifold_nodes " << r.non_manifold_nodes << ", inconsistent_edges " << r.inconsistent_edges
-      << ", duplicate_faces " << r.duplicate_faces;
+      << ", duplicate_faces " << r.duplicate_faces << ", thin_faces " << r.thin_faces;
   return out.str();
 }
 

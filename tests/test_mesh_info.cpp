@@ -246,6 +246,7 @@ TEST_CASE("mesh_info: json has exactly the documented keys", "[info]") {
                                           "inconsistent_edges",
                                           "duplicate_faces",
                                           "sliver_faces",
+                                          "thin_faces",
                                           "area",
                                           "has_uv",
                                           "has_normals",

@@ -146,6 +146,7 @@ TEST_CASE("validate_mesh: degenerate faces by the area ratio", "[validate]") {
                            {0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15, 16, 17});
   const tear::MeshReport report = validate(m);
   CHECK(report.degenerate_faces == 4);
+  CHECK(report.thin_faces == 1);  // face 5: 1e-11 is above the degenerate ratio, under the thin one
   CHECK(report.non_manifold_edges == 0);
   CHECK(report.non_manifold_nodes == 0);
   CHECK(report.inconsistent_edges == 0);
@@ -259,6 +260,24 @@ TEST_CASE("validate_mesh: faces on the same three nodes", "[validate]") {
   CHECK(validate(make_mesh({0, 0, 0, 1, 0, 0}, {0, 0, 1, 0, 1, 0})).duplicate_faces == 0);
 }
 
+TEST_CASE("validate_mesh: faces too thin to cut in single precision", "[validate]") {
+  // A unit square's bottom side with a node above its middle at 3e-6 (a 0.0003 degree sliver: cut,
+  // with a warning) and at 3e-9 (twice the area 3e-9 of the longest edge squared: a cut point on it
+  // rounds onto its long side, and cutting it left a degenerate face).
+  for (const auto& [height, thin] : {std::pair{3e-6f, 0}, std::pair{3e-9f, 1}}) {
+    const auto m = make_mesh({0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0, 0.5f, height, 0},
+                             {0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4});
+    const tear::MeshReport report = validate(m);
+    INFO("height " << height);
+    CHECK(report.thin_faces == thin);
+    CHECK(report.degenerate_faces == 0);
+    CHECK(report.ok() == (thin == 0));
+    CHECK(tear::test::report_counts(report) == tear::test::report_counts(tear::test::reference_validate_mesh(m)));
+  }
+  CHECK(mentions(validate(make_mesh({0, 0, 0, 1, 0, 0, 0.5f, 3e-9f, 0}, {0, 1, 2})),
+                 "1 face too thin to cut (height under 1e-7 of its longest edge)"));
+}
+
 TEST_CASE("validate_mesh: describe names every non-zero count", "[validate]") {
   tear::MeshReport report;
   report.indices_out_of_range = 1;
@@ -268,11 +287,12 @@ TEST_CASE("validate_mesh: describe names every non-zero count", "[validate]") {
   report.non_manifold_nodes = 5;
   report.inconsistent_edges = 6;
   report.duplicate_faces = 7;
+  report.thin_faces = 8;
   const std::string text = report.describe();
   for (const char* part :
        {"1 face with a node index out of range", "2 nodes with a non-finite coordinate", "3 degenerate faces",
         "4 non-manifold edges", "5 non-manifold (bow-tie) nodes", "6 edges with inconsistently oriented faces",
-        "7 faces on the same three nodes as another face"}) {
+        "7 faces on the same three nodes as another face", "8 faces too thin to cut"}) {
     INFO(part);
     CHECK(text.find(part) != std::string::npos);
   }

@@ -65,6 +65,7 @@ void print_human(std::ostream& out, const std::string& path, Device device, cons
       {"degenerate faces", count_why(info.degenerate_faces, "repeated node or zero area")},
       {"inconsistent edges", count_why(info.inconsistent_edges, "neighbouring faces of opposite orientation")},
       {"duplicate faces", count_why(info.duplicate_faces, "on the same three nodes as another face")},
+      {"thin faces", count_why(info.thin_faces, "too thin to cut: height under 1e-7 of the longest edge")},
       {"area", format_number(info.area)},
       {"min angle", info.faces ? format_number(info.min_angle_deg) + " deg" : "n/a"},
       {"sliver faces", info.sliver_faces ? std::to_string(info.sliver_faces) + " (an angle under " +

@@ -23,13 +23,18 @@ struct MeshReport {
   /// oriented ones pass the other checks but close a surface of no volume, which no cut can split
   /// into a manifold (its ends stay joined: bow-ties).
   std::int64_t duplicate_faces = 0;
+  /// Faces that are not degenerate but too thin to cut: twice the area at most `thin_area_ratio`
+  /// times the square of the longest edge (a height under 1e-7 of the longest edge). Node
+  /// positions are single precision, 24 significant bits: a cut point placed on such a face can
+  /// round onto its long edge, and the cut leaves a degenerate face.
+  std::int64_t thin_faces = 0;
 
   /// No index out of range and no non-finite coordinate: topology and statistics can be computed.
   bool readable() const { return indices_out_of_range == 0 && non_finite_nodes == 0; }
   /// Nothing wrong at all.
   bool ok() const {
     return readable() && degenerate_faces == 0 && non_manifold_edges == 0 && non_manifold_nodes == 0 &&
-           inconsistent_edges == 0 && duplicate_faces == 0;
+           inconsistent_edges == 0 && duplicate_faces == 0 && thin_faces == 0;
   }
   /// One line naming every non-zero count, e.g. "3 non-manifold edges, 1 bow-tie node".
   std::string describe() const;
@@ -38,6 +43,12 @@ struct MeshReport {
 /// A face is degenerate when it repeats a node or when twice its area is at most this fraction
 /// of the square of its longest edge.
 inline constexpr double degenerate_area_ratio = 1e-12;
+
+/// A face that is not degenerate is too thin to cut when twice its area is at most this fraction
+/// of the square of its longest edge: its height is within two single-precision ulps (2^-24) of
+/// its longest edge. In angles, about 6e-6 degrees; a 0.0004 degree sliver can still be cut (and
+/// is warned about: `sliver_angle_deg`).
+inline constexpr double thin_area_ratio = 1e-7;
 
 /// Checks indices and coordinates only; cheap, and enough to know whether topology can be built.
 MeshReport check_indices(const Mesh& mesh, Device device);

@@ -20,6 +20,8 @@ std::string MeshReport::describe() const {
   add(non_manifold_nodes, "non-manifold (bow-tie) node", "non-manifold (bow-tie) nodes");
   add(inconsistent_edges, "edge with inconsistently oriented faces", "edges with inconsistently oriented faces");
   add(duplicate_faces, "face on the same three nodes as another face", "faces on the same three nodes as another face");
+  add(thin_faces, "face too thin to cut (height under 1e-7 of its longest edge)",
+      "faces too thin to cut (height under 1e-7 of their longest edge)");
   return out.empty() ? "no problems" : out;
 }
 

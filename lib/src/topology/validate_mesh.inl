@@ -36,8 +36,12 @@ MeshReport validate_mesh_on(const Mesh& mesh, const Topology& t) {
   vector<System, index_t> face_edges(t.face_edges.begin(), t.face_edges.end()), edge_faces(t.edge_faces.begin(), t.edge_faces.end()),
       edge_face_count(t.edge_face_count.begin(), t.edge_face_count.end()), node_face_offset(t.node_face_offset.begin(), t.node_face_offset.end()),
       node_faces(t.node_faces.begin(), t.node_faces.end());
-  if (!report.non_finite_nodes)
+  if (!report.non_finite_nodes) {
     report.degenerate_faces = count_bad<System>(mesh.face_count(), kernels::face_degenerate{raw<float>(node_pos), raw<index_t>(face_nodes), degenerate_area_ratio});
+    // Degenerate at the thin ratio, less those degenerate at the degenerate ratio.
+    report.thin_faces = count_bad<System>(mesh.face_count(), kernels::face_degenerate{raw<float>(node_pos), raw<index_t>(face_nodes), thin_area_ratio}) -
+                        report.degenerate_faces;
+  }
   report.non_manifold_edges = count_bad<System>(t.edge_count, kernels::edge_non_manifold{raw<index_t>(edge_face_count)});
   report.inconsistent_edges = count_bad<System>(
       t.edge_count, kernels::edge_inconsistent{raw<index_t>(face_nodes), raw<index_t>(face_edges), raw<index_t>(edge_faces), raw<index_t>(edge_face_count)});
