@@ -9,6 +9,7 @@
 #include <string>
 
 #include "catch.h"
+#include "tear/device.h"
 #include "tear/make_sheet.h"
 #include "tear/write_mesh.h"
 #include "test_support.h"
@@ -37,10 +38,23 @@ std::size_t first_different_line(const std::string& a, const std::string& b) {
   return line;
 }
 
-/// Runs `tear run` on the CPU backend (goldens are its bytes; CUDA agrees on topology, and on
-/// positions only to a tolerance) on the 200-face regular sheet with `script`, and compares the
-/// frame `frame_count` with `tests/golden/<name>.obj`, or rewrites that file when
-/// TEAR_UPDATE_GOLDENS=1.
+/// Runs `command` through the shell, its standard output and error into `dir/output.txt`; returns
+/// its exit code (REQUIREs that it exited).
+int run_tear(const std::string& command, const fs::path& dir) {
+  const std::string full = command + " >'" + (dir / "output.txt").string() + "' 2>&1";
+  const int status = std::system(full.c_str());
+  INFO(full);
+  INFO("output: " << read_bytes(dir / "output.txt"));
+  REQUIRE(status != -1);
+  REQUIRE(WIFEXITED(status));
+  return WEXITSTATUS(status);
+}
+
+/// Runs `tear run` on the CPU backend (goldens are its bytes) on the 200-face regular sheet with
+/// `script`, and compares the frame `frame_count` with `tests/golden/<name>.obj` byte for byte, or
+/// rewrites that file when TEAR_UPDATE_GOLDENS=1. Where a GPU is present, the same run on the CUDA
+/// backend (same topology, positions equal only to a tolerance) is compared with the golden by
+/// `tear diff` at its default tolerance, as a user's golden test across backends would.
 void check_golden(const std::string& name, const std::string& script, int frame_count) {
   std::string folder = (fs::temp_directory_path() / "tear_test_golden.XXXXXX").string();
   REQUIRE(mkdtemp(folder.data()) != nullptr);
@@ -59,15 +73,9 @@ void check_golden(const std::string& name, const std::string& script, int frame_
   tear::write_mesh(tear::make_sheet(sheet), (dir / "sheet.obj").string());
   std::ofstream(dir / "script.json", std::ios::binary) << script;
 
-  const std::string command = "'" + std::string(TEAR_BINARY) + "' run --device cpu '" + (dir / "sheet.obj").string() +
-                              "' '" + (dir / "script.json").string() + "' -o '" + (dir / "frame.####.obj").string() +
-                              "' 2>'" + (dir / "stderr.txt").string() + "'";
-  const int status = std::system(command.c_str());
-  INFO(command);
-  INFO("stderr: " << read_bytes(dir / "stderr.txt"));
-  REQUIRE(status != -1);
-  REQUIRE(WIFEXITED(status));
-  REQUIRE(WEXITSTATUS(status) == 0);
+  const std::string tear = "'" + std::string(TEAR_BINARY) + "'";
+  const std::string inputs = " '" + (dir / "sheet.obj").string() + "' '" + (dir / "script.json").string() + "'";
+  REQUIRE(run_tear(tear + " run --device cpu" + inputs + " -o '" + (dir / "frame.####.obj").string() + "'", dir) == 0);
 
   char frame_name[32];
   std::snprintf(frame_name, sizeof frame_name, "frame.%04d.obj", frame_count);
@@ -80,6 +88,15 @@ void check_golden(const std::string& name, const std::string& script, int frame_
     return;
   }
   REQUIRE(fs::exists(golden));
+  if (tear::cuda_available()) {
+    REQUIRE(run_tear(tear + " run --device cuda" + inputs + " -o '" + (dir / "cuda.####.obj").string() + "'", dir) == 0);
+    std::snprintf(frame_name, sizeof frame_name, "cuda.%04d.obj", frame_count);
+    const int diff = run_tear(tear + " diff '" + golden.string() + "' '" + (dir / frame_name).string() + "'", dir);
+    INFO("tear diff of the CPU golden and the CUDA run: " << read_bytes(dir / "output.txt"));
+    CHECK(diff == 0);  // 5: they differ beyond tear diff's default tolerance
+  } else {
+    WARN("no GPU: the CUDA run is not compared with " << golden.string());
+  }
   const std::string expected = read_bytes(golden);
   if (actual != expected)
     FAIL(golden.string()
