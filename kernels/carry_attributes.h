@@ -3,8 +3,10 @@
 //   fixed order; a copy of one old node is bit-exact;
 // - copy (node flags): a copy of one old node takes its flag, a node made inside an edge or a face
 //   gets 0 (a pin stays with both copies of a pinned node, a new node is free);
+//   (both in one pass over the new nodes: carry_node_attributes)
 // - parent (face values): each new face takes its parent face's value;
-// - corner values are interpolated inside the parent face by `write_new_faces`.
+// - corner values are interpolated inside the parent face;
+//   (both written by `write_new_faces`, with the parents)
 // Example: old vel [a, b], new node 2 = 0.75·node 0 + 0.25·node 1 → new vel [a, b, 0.75a + 0.25b];
 // old pinned [1, 0] → new pinned [1, 0, 0].
 #pragma once
@@ -15,47 +17,73 @@
 
 namespace tear::kernels {
 
-/// Node values with `comps` floats per node, interpolated over the new node's sources.
-struct interpolate_node_values {
+/// One node attribute of `comps` floats per node (1..4), interpolated over the new node's sources.
+struct NodeValueArrays {
+  const float* old_value;  ///< [old_node_count * comps]
+  float* new_value;        ///< [new_node_count * comps]
+  int comps;
+};
+
+/// One node flag: the copies of an old node keep its flag; interpolated nodes get 0.
+struct NodeFlagArrays {
+  const std::uint8_t* old_flag;  ///< [old_node_count]
+  std::uint8_t* new_flag;        ///< [new_node_count]
+};
+
+/// The node attributes a cut carries, as a small value one kernel takes.
+struct NodeAttributes {
+  static constexpr int value_capacity = 4, flag_capacity = 2;
+  NodeValueArrays values[value_capacity];
+  int value_count = 0;
+  NodeFlagArrays flags[flag_capacity];
+  int flag_count = 0;
+};
+
+/// Every node attribute of new node i from its sources (write_new_nodes.h), in one pass: values
+/// interpolated in a fixed order (a copy of one old node is bit-exact), flags copied from the
+/// node's one source or 0.
+struct carry_node_attributes {
   const index_t* node_source;       ///< [new_node_count * 3], -1 unused
   const float* node_source_weight;  ///< [new_node_count * 3]
-  const float* old_value;           ///< [old_node_count * comps]
-  float* new_value;                 ///< [new_node_count * comps]
-  int comps;
+  NodeAttributes at;
   TEAR_HD void operator()(index_t i) const {
-    float v[4] = {0, 0, 0, 0};
+    index_t n[3];
+    float w[3];
     for (int s = 0; s < 3; ++s) {
-      const index_t n = node_source[3 * i + s];
-      if (n < 0) continue;
-      const float w = node_source_weight[3 * i + s];
-      if (s == 0 && w == 1.f) {  // a copy: bit-exact
-        for (int d = 0; d < comps; ++d) v[d] = old_value[comps * n + d];
-        break;
-      }
-      for (int d = 0; d < comps; ++d) v[d] += w * old_value[comps * n + d];
+      n[s] = node_source[3 * i + s];
+      w[s] = node_source_weight[3 * i + s];
     }
-    for (int d = 0; d < comps; ++d) new_value[comps * i + d] = v[d];
+    const bool copy = n[0] >= 0 && w[0] == 1.f;  // a copy: bit-exact
+    for (int a = 0; a < at.value_count; ++a) {
+      const NodeValueArrays& x = at.values[a];
+      float v[4] = {0, 0, 0, 0};
+      if (copy) {
+        for (int d = 0; d < x.comps; ++d) v[d] = x.old_value[x.comps * n[0] + d];
+      } else {
+        for (int s = 0; s < 3; ++s) {
+          if (n[s] < 0) continue;
+          for (int d = 0; d < x.comps; ++d) v[d] += w[s] * x.old_value[x.comps * n[s] + d];
+        }
+      }
+      for (int d = 0; d < x.comps; ++d) x.new_value[x.comps * i + d] = v[d];
+    }
+    const bool flag_copy = n[1] < 0 && w[0] == 1.f;
+    for (int a = 0; a < at.flag_count; ++a)
+      at.flags[a].new_flag[i] = flag_copy ? at.flags[a].old_flag[n[0]] : std::uint8_t(0);
   }
 };
 
-/// Node flags: the copies of an old node keep its flag; interpolated nodes get 0.
-struct copy_node_flags {
-  const index_t* node_source;
-  const float* node_source_weight;
-  const std::uint8_t* old_flag;
-  std::uint8_t* new_flag;
-  TEAR_HD void operator()(index_t i) const {
-    const bool copy = node_source[3 * i + 1] < 0 && node_source_weight[3 * i] == 1.f;
-    new_flag[i] = copy ? old_flag[node_source[3 * i]] : std::uint8_t(0);
-  }
+/// One face value (an index per face): each new face takes its parent's.
+struct FaceValueArrays {
+  const index_t* old_value;  ///< [old_face_count]
+  index_t* new_value;        ///< [new_face_count]
 };
 
-/// Face values: each new face takes its parent's.
-struct copy_parent_values {
-  const index_t* new_face_parent;  ///< [new_face_count]
-  const index_t* old_value;        ///< [old_face_count]
-  index_t* new_value;              ///< [new_face_count]
-  TEAR_HD void operator()(index_t f) const { new_value[f] = old_value[new_face_parent[f]]; }
+/// The face values a cut carries; `write_new_faces` writes them with the parents.
+struct FaceAttributes {
+  static constexpr int capacity = 2;
+  FaceValueArrays at[capacity];
+  int count = 0;
 };
 
 /// One corner attribute: `comps` floats per corner (corner c = 3 * face + k), interpolated with the

@@ -30,7 +30,8 @@ TEAR_HD inline void point_code_bary(std::uint8_t code, const index_t* face_nodes
   }
 }
 
-/// Each face writes its new triangles' parents and carries the corner attributes into them.
+/// Each face writes its new triangles' parents and carries its face values and corner attributes
+/// into them.
 struct write_new_faces {
   const index_t* face_nodes;
   const index_t* face_edges;
@@ -40,12 +41,14 @@ struct write_new_faces {
   const float* face_point_bary;
   const index_t* face_tri_offset;
   CornerAttributes corners;
+  FaceAttributes face_values;
   index_t* new_face_parent;
   TEAR_HD void operator()(index_t f) const {
     const SplitCase& c = split_case(table, face_state[f]);
     for (int t = 0; t < c.tri_count; ++t) {
       const index_t nf = face_tri_offset[f] + t;
       new_face_parent[nf] = f;
+      for (int a = 0; a < face_values.count; ++a) face_values.at[a].new_value[nf] = face_values.at[a].old_value[f];
       for (int k = 0; k < 3; ++k) {
         double b[3];
         point_code_bary(c.tri[t][k], face_nodes, face_edges, edge_point_t, face_point_bary, f, b);

@@ -32,9 +32,28 @@
 
 namespace tear::backend {
 
+/// The execution policy of a vector's own work (the fill of a resize, a copy between vectors):
+/// by default its pointer's system, Thrust's blocking policy on CUDA.
+template <Device device>
+struct VectorSystem {};
+
+#if TEAR_CUDA_SYSTEM
+/// On CUDA, the non-blocking policy the stages use: a resize that grows a vector fills the new
+/// elements with a kernel, and with the blocking policy it would also wait for the device, once
+/// per growing array per cut. The fill is queued on the same stream as the stages, so order holds.
+template <>
+struct VectorSystem<Device::cuda> {
+  using system_type = thrust::cuda_cub::par_nosync_t;
+  system_type& system() {
+    static system_type policy;
+    return policy;
+  }
+};
+#endif
+
 /// A Thrust allocator `Base` with every allocation counted against `device` (`tear::memory_peak`).
 template <class T, class Base, Device device>
-struct CountingAllocator : Base {
+struct CountingAllocator : Base, VectorSystem<device> {
   using value_type = T;
   using pointer = typename Base::pointer;
   using size_type = typename Base::size_type;

@@ -150,9 +150,9 @@ class Remesher {
   // The mesh being written (provenance of the last cut included), swapped in at the end.
   vec<index_t> new_face_nodes_, new_face_parent_, node_source_;
   vec<float> node_source_weight_;
-  std::array<vec<float>, 3> new_node_values_;
-  std::array<vec<std::uint8_t>, 1> new_node_flags_;
-  std::array<vec<index_t>, 1> new_face_values_;
+  std::array<vec<float>, kernels::NodeAttributes::value_capacity> new_node_values_;
+  std::array<vec<std::uint8_t>, kernels::NodeAttributes::flag_capacity> new_node_flags_;
+  std::array<vec<index_t>, kernels::FaceAttributes::capacity> new_face_values_;
   std::array<vec<float>, 3> new_corner_values_;
 };
 
@@ -375,10 +375,19 @@ void Remesher<System>::write_new_faces(DeviceCloth<System>& cloth, const CutOpti
     resize_with_headroom(next, values->empty() ? 0 : 3 * std::size_t(comps) * new_face_count_);
     if (!values->empty()) corners.at[corners.count++] = {raw<float>(*values), raw<float>(next), comps, unit};
   }
+  static_assert(std::tuple_size<decltype(cloth.corner_values())>::value <= CornerAttributes::capacity);
+  FaceAttributes face_values;
+  const auto face_entries = cloth.face_values();
+  static_assert(std::tuple_size<decltype(face_entries)>::value <= FaceAttributes::capacity);
+  for (std::size_t a = 0; a < face_entries.size(); ++a) {
+    auto& next = new_face_values_[a];
+    resize_with_headroom(next, new_face_count_);
+    face_values.at[face_values.count++] = {raw<index_t>(*face_entries[a]), raw<index_t>(next)};
+  }
   for_each_index(f_count, kernels::write_new_faces{raw<index_t>(cloth.face_nodes), raw<index_t>(cloth.topo.face_edges),
                                                    raw<std::uint16_t>(info_.face_state), raw<SplitCase>(table_),
                                                    raw<float>(info_.edge_point_t), raw<float>(info_.face_point_bary),
-                                                   raw<index_t>(face_new_face_offset_), corners,
+                                                   raw<index_t>(face_new_face_offset_), corners, face_values,
                                                    raw<index_t>(new_face_parent_)});
   check_written(options, new_face_parent_, new_face_count_, index_t(-2), "the face write");
 }
@@ -404,30 +413,29 @@ void Remesher<System>::map_nodes(const DeviceCloth<System>& cloth, const CutOpti
 template <class System>
 void Remesher<System>::carry_attributes(DeviceCloth<System>& cloth) {
   using namespace kernels;
-  const index_t* source = raw<index_t>(node_source_);
-  const float* weight = raw<float>(node_source_weight_);
+  // Node values and flags in one pass over the new nodes; face values and corner values were
+  // written with the new faces. Then every new array is swapped in.
+  NodeAttributes nodes;
   const auto node_values = cloth.node_values();
+  static_assert(std::tuple_size<decltype(node_values)>::value <= NodeAttributes::value_capacity);
   for (std::size_t a = 0; a < node_values.size(); ++a) {
     const auto& [values, comps] = node_values[a];
     auto& next = new_node_values_[a];
     resize_with_headroom(next, std::size_t(comps) * new_node_count_);
-    for_each_index(new_node_count_, interpolate_node_values{source, weight, raw<float>(*values), raw<float>(next), comps});
-    values->swap(next);
+    nodes.values[nodes.value_count++] = {raw<float>(*values), raw<float>(next), comps};
   }
   const auto node_flags = cloth.node_flags();
+  static_assert(std::tuple_size<decltype(node_flags)>::value <= NodeAttributes::flag_capacity);
   for (std::size_t a = 0; a < node_flags.size(); ++a) {
     auto& next = new_node_flags_[a];
     resize_with_headroom(next, new_node_count_);
-    for_each_index(new_node_count_, copy_node_flags{source, weight, raw<std::uint8_t>(*node_flags[a]), raw<std::uint8_t>(next)});
-    node_flags[a]->swap(next);
+    nodes.flags[nodes.flag_count++] = {raw<std::uint8_t>(*node_flags[a]), raw<std::uint8_t>(next)};
   }
+  for_each_index(new_node_count_, carry_node_attributes{raw<index_t>(node_source_), raw<float>(node_source_weight_), nodes});
+  for (std::size_t a = 0; a < node_values.size(); ++a) node_values[a].values->swap(new_node_values_[a]);
+  for (std::size_t a = 0; a < node_flags.size(); ++a) node_flags[a]->swap(new_node_flags_[a]);
   const auto face_values = cloth.face_values();
-  for (std::size_t a = 0; a < face_values.size(); ++a) {
-    auto& next = new_face_values_[a];
-    resize_with_headroom(next, new_face_count_);
-    for_each_index(new_face_count_, copy_parent_values{raw<index_t>(new_face_parent_), raw<index_t>(*face_values[a]), raw<index_t>(next)});
-    face_values[a]->swap(next);
-  }
+  for (std::size_t a = 0; a < face_values.size(); ++a) face_values[a]->swap(new_face_values_[a]);
   const auto corner_values = cloth.corner_values();
   for (std::size_t a = 0; a < corner_values.size(); ++a) corner_values[a].values->swap(new_corner_values_[a]);
   cloth.face_nodes.swap(new_face_nodes_);
