@@ -54,7 +54,9 @@ struct carry_node_attributes {
       w[s] = node_source_weight[3 * i + s];
     }
     const bool copy = n[0] >= 0 && w[0] == 1.f;  // a copy: bit-exact
-    for (int a = 0; a < at.value_count; ++a) {
+    TEAR_UNROLL
+    for (int a = 0; a < NodeAttributes::value_capacity; ++a) {
+      if (a >= at.value_count) break;
       const NodeValueArrays& x = at.values[a];
       float v[4] = {0, 0, 0, 0};
       if (copy) {
@@ -68,8 +70,9 @@ struct carry_node_attributes {
       for (int d = 0; d < x.comps; ++d) x.new_value[x.comps * i + d] = v[d];
     }
     const bool flag_copy = n[1] < 0 && w[0] == 1.f;
-    for (int a = 0; a < at.flag_count; ++a)
-      at.flags[a].new_flag[i] = flag_copy ? at.flags[a].old_flag[n[0]] : std::uint8_t(0);
+    TEAR_UNROLL
+    for (int a = 0; a < NodeAttributes::flag_capacity; ++a)
+      if (a < at.flag_count) at.flags[a].new_flag[i] = flag_copy ? at.flags[a].old_flag[n[0]] : std::uint8_t(0);
   }
 };
 
@@ -129,6 +132,15 @@ TEAR_HD inline void interpolate_corner(const CornerValues& a, index_t old_face, 
     case 3: interpolate_corner<3>(a, old_face, new_corner, b); break;
     default: interpolate_corner<4>(a, old_face, new_corner, b); break;
   }
+}
+
+/// A new corner at an old node of its parent face (corner `local` of it) keeps that corner's
+/// values exactly, unit values included: a face no cut touches keeps its corners bit for bit, and
+/// the corners around an old node stay as equal as they were.
+TEAR_HD inline void copy_corner(const CornerValues& a, index_t old_face, int local, index_t new_corner) {
+  const float* old = a.old_value + a.comps * (3 * old_face + local);
+  float* out = a.new_value + a.comps * new_corner;
+  for (int d = 0; d < a.comps; ++d) out[d] = old[d];
 }
 
 }  // namespace tear::kernels

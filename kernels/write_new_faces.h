@@ -1,5 +1,6 @@
 // tear kernels: the new faces (paper §2.3, write step): parent face and per-corner attributes,
-// interpolated inside the parent face only, so UVs never blend across a seam.
+// interpolated inside the parent face only, so UVs never blend across a seam; a corner at an old
+// node keeps that node's corner values exactly.
 #pragma once
 
 #include <cmath>
@@ -48,11 +49,24 @@ struct write_new_faces {
     for (int t = 0; t < c.tri_count; ++t) {
       const index_t nf = face_tri_offset[f] + t;
       new_face_parent[nf] = f;
-      for (int a = 0; a < face_values.count; ++a) face_values.at[a].new_value[nf] = face_values.at[a].old_value[f];
+      // The attribute loops run to the capacity with the count as a condition: the index of the
+      // by-value arrays is then known at compile time, and they stay in registers.
+      TEAR_UNROLL
+      for (int a = 0; a < FaceAttributes::capacity; ++a)
+        if (a < face_values.count) face_values.at[a].new_value[nf] = face_values.at[a].old_value[f];
       for (int k = 0; k < 3; ++k) {
+        const std::uint8_t code = c.tri[t][k];
+        if (point_kind(code) == PointKind::node) {
+          TEAR_UNROLL
+          for (int a = 0; a < CornerAttributes::capacity; ++a)
+            if (a < corners.count) copy_corner(corners.at[a], f, point_local(code), 3 * nf + k);
+          continue;
+        }
         double b[3];
-        point_code_bary(c.tri[t][k], face_nodes, face_edges, edge_point_t, face_point_bary, f, b);
-        for (int a = 0; a < corners.count; ++a) interpolate_corner(corners.at[a], f, 3 * nf + k, b);
+        point_code_bary(code, face_nodes, face_edges, edge_point_t, face_point_bary, f, b);
+        TEAR_UNROLL
+        for (int a = 0; a < CornerAttributes::capacity; ++a)
+          if (a < corners.count) interpolate_corner(corners.at[a], f, 3 * nf + k, b);
       }
     }
   }

@@ -218,3 +218,55 @@ TEST_CASE("identity: torn edges are the borders a cut made, and only those", "[i
     CHECK(on_outline);
   }
 }
+
+TEST_CASE("identity: corners at old nodes keep their UVs and normals bit for bit through a cut", "[identity][carry]") {
+  // Normals as a file gives them: a few decimals, not of unit length, different at every corner.
+  // A corner of a new face that lies at an old node of its parent keeps the parent's corner values
+  // exactly (so faces no cut touches keep theirs, and the corners around a node stay as equal as
+  // they were); a corner at a cut point gets interpolated values, its normal of unit length.
+  const std::uint64_t seed = tear::test::test_seed(9017);
+  INFO("seed " << seed << " (TEAR_TEST_SEED reruns it)");
+  tear::test::Random random(seed);
+  for (int trial = 0; trial < 6; ++trial) {
+    tear::SheetOptions sheet;
+    sheet.face_count = 2 * static_cast<index_t>(random.uniform(40, 300));
+    sheet.seed = seed + trial;
+    Mesh input = tear::make_sheet(sheet);
+    input.corner_normal.resize(9 * std::size_t(input.face_count()));
+    for (auto& c : input.corner_normal) c = static_cast<float>(std::round(random.uniform(-1, 1) * 1e4) / 1e4);
+    for (index_t c = 0; c < 3 * input.face_count(); ++c) input.corner_normal[3 * c + 2] = 0.9f;  // never zero
+    tear::Cloth cloth(input, tear::test::test_device());
+    std::vector<CutLine> cuts = {random_cut(random), random_cut(random)};
+    const tear::CutStats stats = cloth.cut(cuts, {});
+    INFO("trial " << trial);
+    if (stats.faces_after == stats.faces_before) continue;
+    const Mesh m = cloth.mesh();
+    const tear::CutProvenance p = cloth.provenance();
+    REQUIRE(p.face_parent.size() == std::size_t(m.face_count()));
+    REQUIRE(m.corner_normal.size() == 9 * std::size_t(m.face_count()));
+    REQUIRE(m.corner_uv.size() == 6 * std::size_t(m.face_count()));
+    int copied = 0, interpolated = 0;
+    for (index_t f = 0; f < m.face_count(); ++f) {
+      const index_t parent = p.face_parent[f];
+      for (int k = 0; k < 3; ++k) {
+        const index_t n = m.face_nodes[3 * f + k];
+        // A copy of an old node: one source, weight 1.
+        const bool copy = p.node_source[3 * n + 1] < 0 && p.node_source_weight[3 * n] == 1.f;
+        int local = -1;
+        for (int j = 0; j < 3 && copy; ++j)
+          if (input.face_nodes[3 * parent + j] == p.node_source[3 * n]) local = j;
+        const float* normal = &m.corner_normal[3 * (3 * f + k)];
+        if (local >= 0) {
+          ++copied;
+          for (int d = 0; d < 3; ++d) CHECK(normal[d] == input.corner_normal[3 * (3 * parent + local) + d]);
+          for (int d = 0; d < 2; ++d) CHECK(m.corner_uv[2 * (3 * f + k) + d] == input.corner_uv[2 * (3 * parent + local) + d]);
+        } else {
+          ++interpolated;
+          CHECK(std::abs(std::sqrt(double(normal[0]) * normal[0] + double(normal[1]) * normal[1] + double(normal[2]) * normal[2]) - 1) < 1e-6);
+        }
+      }
+    }
+    CHECK(copied > 0);
+    CHECK(interpolated > 0);
+  }
+}
