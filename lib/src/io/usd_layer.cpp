@@ -1,6 +1,7 @@
 #include "tear/usd_layer.h"
 
 #include <fcntl.h>
+#include <omp.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -394,7 +395,7 @@ struct UsdLayer::Sequence {
   std::string assembled_path;  // the layer before its rename
   int first_frame = 0, last_frame = 0;
   bool opened = false, finished = false;
-  Text sample;  // the writer's
+  Text samples[attribute_count];  // the writer's, one per attribute
 
   std::thread writer;
   std::mutex mutex;
@@ -468,12 +469,32 @@ struct UsdLayer::Sequence {
     }
   }
 
+  /// Encodes and appends frame `frame` of every attribute. The attributes are independent (each
+  /// has its own text and file), so they are encoded side by side, the largest first (normals
+  /// and UVs, one value per corner); each file's bytes are the same whatever the threads do.
   void append(const Mesh& mesh, int frame) {
-    for (int i = 0; i < attribute_count; ++i) {
+    static constexpr Attribute by_size[attribute_count] = {
+        Attribute::normals,    Attribute::st,        Attribute::face_vertex_indices, Attribute::points,
+        Attribute::velocities, Attribute::tear_edge, Attribute::face_vertex_counts, Attribute::extent};
+    int errors[attribute_count] = {};
+    std::exception_ptr failures[attribute_count];
+    const int threads = std::max(1, std::min(4, omp_get_num_procs()));
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
+    for (int k = 0; k < attribute_count; ++k) {
+      const int i = static_cast<int>(by_size[k]);
       if (!files[i]) continue;
-      sample.clear();
-      put_sample(sample, static_cast<Attribute>(i), frame, mesh);
-      if (std::fwrite(sample.data(), 1, sample.size(), files[i]) != sample.size()) throw write_error(path, errno);
+      try {
+        Text& text = samples[i];
+        text.clear();
+        put_sample(text, static_cast<Attribute>(i), frame, mesh);
+        if (std::fwrite(text.data(), 1, text.size(), files[i]) != text.size()) errors[i] = errno ? errno : EIO;
+      } catch (...) {
+        failures[i] = std::current_exception();
+      }
+    }
+    for (int i = 0; i < attribute_count; ++i) {
+      if (failures[i]) std::rethrow_exception(failures[i]);
+      if (errors[i]) throw write_error(path, errors[i]);
     }
   }
 
@@ -497,7 +518,20 @@ struct UsdLayer::Sequence {
       write_all(out.fd, open_text.data(), open_text.size(), path);
       FileDescriptor in{::open(file_paths[i].c_str(), O_RDONLY | O_CLOEXEC)};
       if (in.fd < 0) throw write_error(path, errno);
+      // The kernel copies the samples file to file where it can (no pass through this process);
+      // where it cannot (another file system, an old kernel), read and write.
+      bool copied = false;
       for (;;) {
+        const ssize_t n = ::copy_file_range(in.fd, nullptr, out.fd, nullptr, std::size_t(1) << 30, 0);
+        if (n < 0 && errno == EINTR) continue;
+        if (n < 0 && (errno == EXDEV || errno == ENOSYS || errno == EINVAL || errno == EOPNOTSUPP || errno == EBADF)) break;
+        if (n < 0) throw write_error(path, errno);
+        if (n == 0) {
+          copied = true;
+          break;
+        }
+      }
+      while (!copied) {
         const ssize_t n = ::read(in.fd, buffer.data(), buffer.size());
         if (n < 0 && errno == EINTR) continue;
         if (n < 0) throw write_error(path, errno);
