@@ -13,11 +13,38 @@
 
 namespace tear::kernels {
 
-/// Inertial prediction s = x + h v + h² g (pinned nodes: s = x), which also starts the iterates.
+/// The motion of a pin during one substep as the kernels see it: a pin without keys holds its
+/// nodes where they are; a keyed one holds them at rest + `offset` (the offset at the substep's
+/// end) moving at `velocity` (the offset's change over the substep / h).
+struct PdPinMotion {
+  std::int32_t keyed;  ///< 0 holds nodes where they are, 1 at rest + offset
+  float offset[3];     ///< metres
+  float velocity[3];   ///< m/s
+};
+
+/// Where pinned node n is at the end of the substep: x for a pin without keys (or a pin value that
+/// names no pin of `pin_motion`), rest + offset for a keyed one. `node_pinned` is 0 for a free
+/// node, p + 1 for one held by pin p.
+TEAR_HD inline const PdPinMotion* pin_motion_of(const std::uint8_t* node_pinned, const PdPinMotion* pin_motion,
+                                                index_t pin_count, index_t n) {
+  const index_t p = index_t(node_pinned[n]) - 1;
+  return p >= 0 && p < pin_count && pin_motion[p].keyed ? &pin_motion[p] : nullptr;
+}
+
+TEAR_HD inline Vec3f pinned_position(const PdPinMotion* motion, const float* node_rest, const Vec3f& x, index_t n) {
+  if (!motion) return x;
+  return load3<float>(node_rest, n) + Vec3f{motion->offset[0], motion->offset[1], motion->offset[2]};
+}
+
+/// Inertial prediction s = x + h v + h² g (pinned nodes: s = their pinned position, x unless their
+/// pin is keyed), which also starts the iterates.
 struct predict_positions {
   const float* node_pos;
   const float* node_vel;
   const std::uint8_t* node_pinned;
+  const float* node_rest;
+  const PdPinMotion* pin_motion;  // [pin_count]
+  index_t pin_count;
   float h;        // s
   Vec3f gravity;  // m/s²
   float* node_pred;
@@ -25,7 +52,9 @@ struct predict_positions {
   float* node_iter_prev;  // x⁽⁻¹⁾, only read once the acceleration starts
   TEAR_HD void operator()(index_t n) const {
     const Vec3f x = load3<float>(node_pos, n);
-    const Vec3f s = node_pinned[n] ? x : x + h * load3<float>(node_vel, n) + (h * h) * gravity;
+    const Vec3f s = node_pinned[n]
+                        ? pinned_position(pin_motion_of(node_pinned, pin_motion, pin_count, n), node_rest, x, n)
+                        : x + h * load3<float>(node_vel, n) + (h * h) * gravity;
     store3(node_pred, n, s);
     store3(node_iter, n, s);
     store3(node_iter_prev, n, s);
@@ -128,16 +157,19 @@ TEAR_UNROLL
   }
 };
 
-/// A static collider as the kernels see it: a plane (point, unit normal) or a sphere (centre, radius).
+/// A collider as the kernels see it during one substep: a plane (point, unit normal) or a sphere
+/// (centre, radius), where its keys put it at the substep's end, moving at `velocity`.
 struct PdCollider {
   std::int32_t kind;  ///< 0 plane, 1 sphere
   float point[3];
   float normal[3];
   float radius;
+  float velocity[3];  ///< m/s, 0 for a static collider
 };
 
-/// Pushes a node out of a collider along the surface normal and removes the velocity component
-/// that points into it. No friction: the tangential velocity is kept.
+/// Pushes a node out of a collider along the surface normal and removes the velocity component,
+/// relative to the collider, that points into it: a pushed node moves away at least as fast as the
+/// collider's surface. No friction: the tangential velocity is kept.
 TEAR_HD inline void collide(const PdCollider& c, Vec3f& x, Vec3f& v) {
   const Vec3f point{c.point[0], c.point[1], c.point[2]};
   Vec3f normal;
@@ -154,14 +186,17 @@ TEAR_HD inline void collide(const PdCollider& c, Vec3f& x, Vec3f& v) {
   }
   if (!(depth > 0.0f)) return;
   x = x + depth * normal;
-  const float vn = dot(v, normal);
+  const float vn = dot(v - Vec3f{c.velocity[0], c.velocity[1], c.velocity[2]}, normal);
   if (vn < 0.0f) v = v - vn * normal;
 }
 
 /// End of a step: v = (x − xₙ)/h scaled by the damping factor, x = the last iterate, then the
-/// colliders in order. Pinned nodes keep their position and have no velocity.
+/// colliders in order. Pinned nodes take their pinned position (the last iterate holds it) and
+/// their pin's velocity: none without keys.
 struct finish_step {
   const std::uint8_t* node_pinned;
+  const PdPinMotion* pin_motion;  // [pin_count]
+  index_t pin_count;
   const float* node_iter;
   float inv_h;
   float velocity_scale;  // (1 − damping)^h
@@ -171,7 +206,13 @@ struct finish_step {
   float* node_vel;
   TEAR_HD void operator()(index_t n) const {
     if (node_pinned[n]) {
-      store3(node_vel, n, Vec3f{0, 0, 0});
+      const PdPinMotion* motion = pin_motion_of(node_pinned, pin_motion, pin_count, n);
+      if (!motion) {
+        store3(node_vel, n, Vec3f{0, 0, 0});
+        return;
+      }
+      store3(node_pos, n, load3<float>(node_iter, n));
+      store3(node_vel, n, Vec3f{motion->velocity[0], motion->velocity[1], motion->velocity[2]});
       return;
     }
     Vec3f x = load3<float>(node_iter, n);

@@ -244,7 +244,8 @@ TEST_CASE("simulation: every options error names the file and the key path", "[s
       {R"({"pins": [{"nodes": [0, -1]}]})",
        "simulation.pins[0].nodes[1]: expected a node index (an integer >= 0), got -1"},
       {R"({"pins": [{"nodes": 3}]})", "simulation.pins[0].nodes: expected an array of node indices, got 3"},
-      {R"({"colliders": [{"cube": {}}]})", "simulation.colliders[0].cube: unknown key (expected plane or sphere)"},
+      {R"({"colliders": [{"cube": {}}]})",
+       "simulation.colliders[0].cube: unknown key (expected plane, sphere or keys)"},
       {R"({"colliders": [{"plane": {"point": [0,0,0], "normal": [0,0,0]}}]})",
        "simulation.colliders[0].plane.normal: expected a non-zero [x, y, z] vector, got [0, 0, 0]"},
       {R"({"colliders": [{"plane": {"point": [0,0,0]}}]})",
@@ -446,7 +447,8 @@ TEST_CASE("simulation: pinned nodes never move", "[simulation]") {
                                                "s.json");
   PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
   const auto pinned = solver.node_pinned();
-  const index_t pinned_count = static_cast<index_t>(std::count(pinned.begin(), pinned.end(), 1));
+  const index_t pinned_count =
+      static_cast<index_t>(std::count_if(pinned.begin(), pinned.end(), [](std::uint8_t p) { return p != 0; }));
   REQUIRE(pinned_count >= 4);
   // Pins hold where the state puts them, not at rest: move one pinned node first.
   std::vector<float> start = mesh.node_pos, vel(mesh.node_pos.size(), 0.0f);
@@ -549,7 +551,7 @@ TEST_CASE("simulation: two runs give the same bits", "[simulation]") {
   const tear::Mesh mesh = horizontal_sheet(800, true);
   SimulationOptions o;
   o.pins = {edge_pin()};
-  o.colliders = {tear::Collider{tear::Collider::Kind::sphere, {0.5, -0.4, 0.3}, {0, 1, 0}, 0.2}};
+  o.colliders = {tear::Collider{tear::Collider::Kind::sphere, {0.5, -0.4, 0.3}, {0, 1, 0}, 0.2, {}}};
   std::vector<float> pos[2], vel[2];
   for (int run = 0; run < 2; ++run) {
     PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
@@ -588,7 +590,7 @@ TEST_CASE("simulation: every way of launching a step gives the same bits", "[sim
   const tear::Mesh mesh = horizontal_sheet(800, true);
   SimulationOptions o;
   o.pins = {edge_pin()};
-  o.colliders = {tear::Collider{tear::Collider::Kind::sphere, {0.5, -0.4, 0.3}, {0, 1, 0}, 0.2}};
+  o.colliders = {tear::Collider{tear::Collider::Kind::sphere, {0.5, -0.4, 0.3}, {0, 1, 0}, 0.2, {}}};
   const char* modes[3] = {"persistent", "graph", "plain"};
   std::vector<float> pos[3], vel[3];
   for (int m = 0; m < 3; ++m) {

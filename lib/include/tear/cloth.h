@@ -110,9 +110,13 @@ class Cloth {
   void simulate(const SimulationOptions& options);
   bool simulated() const;
   /// Advances the state one frame (1 / fps seconds) in place on the backend, the solver's model
-  /// rebuilt there after a cut changed the mesh. Queues the work without waiting for it. A usage
-  /// `Error` without `simulate`.
+  /// rebuilt there after a cut changed the mesh: the frame after the one stepped last (frame 1
+  /// after `simulate`; `load_state` restores the count). Queues the work without waiting for it. A
+  /// usage `Error` without `simulate`.
   void step();
+  /// The same for frame `frame` (>= 1, as a script counts), whose substeps the keys of pins and
+  /// colliders are evaluated at; later `step` calls go on from it.
+  void step_frame(int frame);
   /// False when a position or velocity is NaN or infinite (waits for the backend).
   bool state_is_finite() const;
 
@@ -123,7 +127,7 @@ class Cloth {
   std::vector<float> node_pos() const;   ///< [node_count * 3] metres
   std::vector<float> node_rest() const;  ///< [node_count * 3] metres
   std::vector<float> node_vel() const;   ///< [node_count * 3] m/s
-  std::vector<std::uint8_t> node_pinned() const;  ///< [node_count] 1 = held by a pin
+  std::vector<std::uint8_t> node_pinned() const;  ///< [node_count] 0 free, p + 1 held by pin p
   /// Replaces the positions and velocities, both [node_count * 3] (a usage `Error` otherwise), from
   /// the host; rest positions stay.
   void set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel);

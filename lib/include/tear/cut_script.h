@@ -43,6 +43,7 @@ inline constexpr double default_snap = 0.2;
 /// The most frames a script may have: 11.5 hours at 24 fps, one file each. More is taken for a
 /// mistake (a run that would not end) and refused when the script is read.
 inline constexpr int max_frames = 1000000;
+static_assert(simulation_limits::max_key_frame == max_frames, "a key may name any frame of a script");
 
 /// A blade segment counts as parallel to the blade direction when the sine of the angle between
 /// them is at most this (zero-length segments count as parallel). Such segments sweep no area.

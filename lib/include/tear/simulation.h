@@ -13,10 +13,10 @@
 
 namespace tear {
 
-
-/// The pinned-node mask [node_count] (1 = pinned) of `options.pins` on a mesh with rest positions
-/// `node_rest` [node_count * 3]. A listed node outside [0, node_count) is an input error naming
-/// `options.source` and the pin's key path.
+/// The pins of the nodes [node_count] (0 free, p + 1 held by `options.pins[p]`, the first pin that
+/// holds the node) on a mesh with rest positions `node_rest` [node_count * 3]. A listed node outside
+/// [0, node_count) is an input error naming `options.source` and the pin's key path, and so are more
+/// than `simulation_limits::max_pins` pins.
 std::vector<std::uint8_t> resolve_pins(const SimulationOptions& options, const std::vector<float>& node_rest,
                                        index_t node_count);
 
@@ -35,8 +35,9 @@ class PdSolver {
   /// from `options.pins` (`resolve_pins`). The state starts at rest: positions = rest, velocities 0.
   PdSolver(const std::vector<index_t>& face_nodes, const std::vector<float>& node_rest, index_t node_count,
            const SimulationOptions& options, Device device);
-  /// The same with an explicit pinned mask [node_count] (1 = pinned), for a cloth whose pins were
-  /// carried through cuts; `options.pins` is ignored.
+  /// The same with the nodes' pins given [node_count] (0 free, p + 1 held by `options.pins[p]`, as
+  /// `resolve_pins` gives them), for a cloth whose pins were carried through cuts; a value naming no
+  /// pin of `options.pins` holds its node where it is.
   PdSolver(const std::vector<index_t>& face_nodes, const std::vector<float>& node_rest, index_t node_count,
            const SimulationOptions& options, Device device, const std::vector<std::uint8_t>& node_pinned);
   ~PdSolver();
@@ -53,13 +54,18 @@ class PdSolver {
   std::size_t bytes_per_iteration() const;
   const SimulationOptions& options() const;
 
-  /// Advances the held state by one frame (1 / fps seconds, `substeps` steps). Queues device work
-  /// without waiting for it; reading the state back synchronises.
+  /// Advances the held state by one frame (1 / fps seconds, `substeps` steps): the frame after the
+  /// one stepped last, frame 1 first. Queues device work without waiting for it; reading the state
+  /// back synchronises.
   void step();
+  /// Advances the held state through frame `frame` (1-based, as a script counts), whose substeps
+  /// the keys of pins and colliders are evaluated at; later `step` calls go on from it.
+  void step_frame(int frame);
   /// Uploads `node_pos` and `node_vel` [node_count * 3], steps one frame and downloads them.
   void step(std::vector<float>& node_pos, std::vector<float>& node_vel);
 
-  /// Replaces the state; both [node_count * 3]. Pinned nodes are held where `node_pos` puts them.
+  /// Replaces the state; both [node_count * 3]. Nodes of pins without keys are held where
+  /// `node_pos` puts them.
   void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel);
   std::vector<float> node_pos() const;  ///< [node_count * 3] metres
   std::vector<float> node_vel() const;  ///< [node_count * 3] m/s
@@ -71,7 +77,7 @@ class PdSolver {
   float* device_node_vel();
 
   std::vector<float> node_mass() const;           ///< [node_count] kg (density × a third of each face's area)
-  std::vector<std::uint8_t> node_pinned() const;  ///< [node_count] 1 = pinned
+  std::vector<std::uint8_t> node_pinned() const;  ///< [node_count] 0 free, p + 1 held by pin p
 
   class Impl;  ///< the per-backend implementation
 

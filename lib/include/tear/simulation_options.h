@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -10,7 +11,41 @@
 
 namespace tear {
 
-/// Nodes held still: either every node whose rest position lies in a box, or listed nodes.
+/// A translation at one frame of a keyed motion (`Pin::keys`, `Collider::keys`).
+struct Key {
+  /// The frame whose end the offset is reached at: frames count as the script's do, from 1; 0 is
+  /// the start, before frame 1 is stepped.
+  int frame = 0;
+  std::array<double, 3> offset{};  ///< metres
+};
+
+/// The offset of `keys` (frames strictly increasing) at `time`, in frames since the start (the end
+/// of frame f is time f): linear between keys, the first key's before it, the last's after it;
+/// zero without keys. Example: keys {1, [0,0,0]}, {3, [2,0,0]} give [1,0,0] at time 2, [0,0,0] at
+/// time 0 and [2,0,0] at time 7.
+inline std::array<double, 3> key_offset(const std::vector<Key>& keys, double time) {
+  if (keys.empty()) return {0, 0, 0};
+  if (!(time > keys.front().frame)) return keys.front().offset;
+  if (!(time < keys.back().frame)) return keys.back().offset;
+  std::size_t k = 1;
+  while (keys[k].frame <= time) ++k;  // keys[k - 1].frame <= time < keys[k].frame
+  const Key& a = keys[k - 1];
+  const Key& b = keys[k];
+  const double w = (time - a.frame) / static_cast<double>(b.frame - a.frame);
+  std::array<double, 3> offset{};
+  for (int i = 0; i < 3; ++i) offset[i] = a.offset[i] + w * (b.offset[i] - a.offset[i]);
+  return offset;
+}
+
+/// The time substep `s` (0-based) of `substeps` in frame `frame` (1-based) ends at, in frames since
+/// the start: frame − 1 + (s + 1) / substeps; the last substep of frame f ends at exactly f.
+inline double substep_end_time(int frame, int s, int substeps) {
+  return (frame - 1) + static_cast<double>(s + 1) / substeps;
+}
+
+/// Nodes held by a pin: either every node whose rest position lies in a box, or listed nodes. A pin
+/// without keys holds its nodes where they are; a pin with keys holds them at their rest position
+/// plus the keys' offset (docs/simulation.md).
 struct Pin {
   enum class Kind { box, nodes };
   Kind kind = Kind::box;
@@ -18,15 +53,17 @@ struct Pin {
   std::array<double, 3> max{};  ///< box corner, rest coordinates, metres, max >= min (kind box)
   std::vector<index_t> nodes;   ///< node indices of the mesh the solver is built from (kind nodes)
   std::string key_path;         ///< where the pin is in the script, e.g. "simulation.pins[1]"
+  std::vector<Key> keys;        ///< the motion of the pinned nodes; empty: they stay where they are
 };
 
-/// A static obstacle nodes are pushed out of after every substep.
+/// An obstacle nodes are pushed out of after every substep; static, or moved by its keys.
 struct Collider {
   enum class Kind { plane, sphere };
   Kind kind = Kind::plane;
   std::array<double, 3> point{};          ///< a point of the plane, or the sphere's centre, metres
   std::array<double, 3> normal{0, 1, 0};  ///< plane: the free side's normal, unit length (kind plane)
   double radius = 0;                      ///< sphere radius, metres, > 0 (kind sphere)
+  std::vector<Key> keys;                  ///< the translation of `point` over time; empty: static
 };
 
 /// Chebyshev semi-iteration of the Jacobi global step (Wang 2015).
@@ -84,6 +121,12 @@ inline constexpr double max_bend_stiffness = 1e3;     ///< N·m: a few millimetr
 inline constexpr int max_chebyshev_delay = 100000;
 /// Metres: the largest coordinate of a collider's point or centre, and its radius.
 inline constexpr double max_collider_extent = 1e9;
+/// A node's pin is stored in a byte (0 free, p + 1 held by pin p).
+inline constexpr int max_pins = 255;
+/// Metres: the largest coordinate of a key's offset (as of a collider's point).
+inline constexpr double max_key_offset = max_collider_extent;
+/// The largest frame of a key: the most frames a script has (cut_script.h `max_frames`).
+inline constexpr int max_key_frame = 1000000;
 }  // namespace simulation_limits
 
 }  // namespace tear

@@ -101,7 +101,12 @@ CutProvenance Cloth::provenance() const { return engine_->provenance(); }
 std::vector<std::uint8_t> Cloth::node_pinned() const { return engine_->node_pinned(); }
 void Cloth::simulate(const SimulationOptions& options) { engine_->simulate(options); }
 bool Cloth::simulated() const { return engine_->simulated(); }
-void Cloth::step() { engine_->step(); }
+void Cloth::step() { engine_->step(0); }
+void Cloth::step_frame(int frame) {
+  if (frame < 1)
+    throw Error(ErrorKind::usage, "Cloth::step_frame: expected a frame >= 1, got " + std::to_string(frame));
+  engine_->step(frame);
+}
 bool Cloth::state_is_finite() const { return engine_->state_is_finite(); }
 std::string Cloth::save_state() const { return engine_->save_state(); }
 void Cloth::load_state(const std::string& state, const std::string& source) { engine_->load_state(state, source); }

@@ -19,7 +19,8 @@ class Cloth::Engine {
   virtual CutStats cut(const std::vector<CutLine>& cuts, const CutOptions& options) = 0;
   virtual void simulate(const SimulationOptions& options) = 0;
   virtual bool simulated() const = 0;
-  virtual void step() = 0;
+  /// Steps frame `frame` (1-based), or the one after the frame stepped last where `frame` < 1.
+  virtual void step(int frame) = 0;
   virtual bool state_is_finite() const = 0;
   virtual Mesh mesh() const = 0;
   virtual Topology topology() const = 0;

@@ -44,7 +44,8 @@ struct unit_corner_weights {
   }
 };
 
-/// Pins every node whose rest position lies in one of the boxes ([box * 6]: min xyz, max xyz).
+/// Pins every node whose rest position lies in one of the boxes ([box * 7]: min xyz, max xyz, the
+/// pin's value p + 1) to the first pin that holds it: a node already held by an earlier pin keeps it.
 struct pin_boxes {
   const float* node_rest;
   const double* boxes;
@@ -55,9 +56,10 @@ struct pin_boxes {
       bool inside = true;
       for (int a = 0; a < 3; ++a) {
         const double x = node_rest[3 * n + a];
-        inside = inside && x >= boxes[6 * b + a] && x <= boxes[6 * b + 3 + a];
+        inside = inside && x >= boxes[7 * b + a] && x <= boxes[7 * b + 3 + a];
       }
-      if (inside) node_pinned[n] = 1;
+      const auto pin = static_cast<std::uint8_t>(boxes[7 * b + 6]);
+      if (inside && (node_pinned[n] == 0 || node_pinned[n] > pin)) node_pinned[n] = pin;
     }
   }
 };
@@ -123,35 +125,41 @@ class ClothEngine final : public Cloth::Engine {
     options_ = options;
     simulated_ = true;
     solver_.reset();
+    frames_stepped_ = 0;
     // Listed pins name nodes of the cloth as it is now; from here on the pins are carried by the
     // cuts (the copies of a pinned node stay pinned) and boxes pin again what a cut makes in them.
+    // Boxes are applied on the backend: here they hold no node, keeping their place in the list.
     SimulationOptions listed = options;
-    listed.pins.erase(std::remove_if(listed.pins.begin(), listed.pins.end(),
-                                     [](const Pin& p) { return p.kind != Pin::Kind::nodes; }),
-                      listed.pins.end());
-    std::vector<std::uint8_t> pinned = listed.pins.empty()
-                                           ? std::vector<std::uint8_t>(static_cast<std::size_t>(node_count()), 0)
-                                           : resolve_pins(listed, std::vector<float>(), node_count());
+    for (Pin& p : listed.pins)
+      if (p.kind == Pin::Kind::box) {
+        p.kind = Pin::Kind::nodes;
+        p.nodes.clear();
+      }
+    const std::vector<std::uint8_t> pinned = resolve_pins(listed, std::vector<float>(), node_count());
     cloth_.node_pinned.assign(pinned.begin(), pinned.end());
     std::vector<double> boxes;
-    for (const Pin& p : options.pins)
-      if (p.kind == Pin::Kind::box) {
-        boxes.insert(boxes.end(), p.min.begin(), p.min.end());
-        boxes.insert(boxes.end(), p.max.begin(), p.max.end());
-      }
+    for (std::size_t i = 0; i < options.pins.size(); ++i) {
+      const Pin& p = options.pins[i];
+      if (p.kind != Pin::Kind::box) continue;
+      boxes.insert(boxes.end(), p.min.begin(), p.min.end());
+      boxes.insert(boxes.end(), p.max.begin(), p.max.end());
+      boxes.push_back(static_cast<double>(i + 1));
+    }
     pin_boxes_.assign(boxes.begin(), boxes.end());
     reapply_box_pins();
   }
   bool simulated() const override { return simulated_; }
 
-  void step() override {
+  void step(int frame) override {
     if (!simulated_) throw Error(ErrorKind::usage, "Cloth::step: no simulation (call Cloth::simulate first)");
+    if (frame < 1) frame = frames_stepped_ + 1;
     if (!solver_ || solver_stale_) {
       solver_.reset();  // the old model's memory first, so the two never coexist
       solver_ = make_pd_solver<System>(cloth_, options_);
       solver_stale_ = false;
     }
-    solver_->step_in_place(raw<float>(cloth_.node_pos), raw<float>(cloth_.node_vel));
+    solver_->step_in_place(raw<float>(cloth_.node_pos), raw<float>(cloth_.node_vel), frame);
+    frames_stepped_ = frame;
   }
 
   bool state_is_finite() const override {
@@ -214,6 +222,7 @@ class ClothEngine final : public Cloth::Engine {
     put(out, c.face_origin);
     put(out, c.corner_origin);
     put(out, c.input_face_border);
+    put(out, vec<std::int64_t>(std::size_t(1), std::int64_t(frames_stepped_)));
     return out;
   }
 
@@ -230,12 +239,14 @@ class ClothEngine final : public Cloth::Engine {
     take(state, at, c.face_origin, source);
     take(state, at, c.corner_origin, source);
     take(state, at, c.input_face_border, source);
+    vec<std::int64_t> frames_stepped;
+    take(state, at, frames_stepped, source);
     const std::size_t f = c.face_nodes.size() / 3, n = c.node_rest.size() / 3;
     const bool sizes = at == state.size() && c.face_nodes.size() == 3 * f && c.node_rest.size() == 3 * n &&
                        (c.corner_uv.empty() || c.corner_uv.size() == 6 * f) &&
                        (c.corner_normal.empty() || c.corner_normal.size() == 9 * f) && c.node_pos.size() == 3 * n &&
                        c.node_vel.size() == 3 * n && c.node_pinned.size() == n && c.face_origin.size() == f &&
-                       c.corner_origin.size() == 9 * f;
+                       c.corner_origin.size() == 9 * f && frames_stepped.size() == 1;
     if (!sizes) throw input_error(source, "the cloth's arrays do not fit together (a damaged or foreign checkpoint)");
     const std::vector<index_t> nodes = to_host<index_t>(c.face_nodes);
     const std::vector<index_t> origins = to_host<index_t>(c.face_origin);
@@ -245,7 +256,11 @@ class ClothEngine final : public Cloth::Engine {
       throw input_error(source, "a face names a node or an input face out of range (a damaged or foreign checkpoint)");
     build_device_topology(c.topo, c.face_nodes, static_cast<index_t>(n), remesher_.topology_scratch(),
                           remesher_.allocator());
+    const std::int64_t frame = frames_stepped[0];
+    if (frame < 0 || frame > max_frames)
+      throw input_error(source, "the cloth's frame count is out of range (a damaged or foreign checkpoint)");
     cloth_ = std::move(c);
+    frames_stepped_ = static_cast<int>(frame);
     solver_stale_ = true;
   }
 
@@ -282,14 +297,15 @@ class ClothEngine final : public Cloth::Engine {
     const thrust::counting_iterator<index_t> zero(0);
     thrust::for_each(Traits<System>::policy(), zero, zero + cloth_.node_count(),
                      pin_boxes{raw<float>(cloth_.node_rest), raw<double>(pin_boxes_),
-                               static_cast<int>(pin_boxes_.size() / 6), raw<std::uint8_t>(cloth_.node_pinned)});
+                               static_cast<int>(pin_boxes_.size() / 7), raw<std::uint8_t>(cloth_.node_pinned)});
   }
 
   DeviceCloth<System> cloth_;
   Remesher<System> remesher_;
   bool simulated_ = false;
   SimulationOptions options_;
-  vec<double> pin_boxes_;                      // [box * 6] of the simulation's box pins
+  vec<double> pin_boxes_;                      // [box * 7] of the simulation's box pins (pin_boxes)
+  int frames_stepped_ = 0;                     // the frame stepped last, 0 before the first
   std::unique_ptr<PdSolver::Impl> solver_;     // the model of the mesh it was built for
   bool solver_stale_ = false;                  // a cut changed the mesh since
 };

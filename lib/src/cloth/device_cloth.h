@@ -34,7 +34,7 @@ struct DeviceCloth {
   vec<float> node_pos;  ///< [node_count * 3] metres
   vec<float> node_vel;  ///< [node_count * 3] m/s
   // Carried attributes besides the model and state.
-  vec<std::uint8_t> node_pinned;  ///< [node_count] 1 = held by a pin
+  vec<std::uint8_t> node_pinned;  ///< [node_count] 0 free, p + 1 held by pin p
   vec<index_t> face_origin;       ///< [face_count] the face of the mesh as read this face lies in
   vec<float> corner_origin;       ///< [face_count * 3 * 3] the corner's weights in its origin face
   // Of the mesh as read, not carried: bit j of face F = F's edge j was on the border.

@@ -180,7 +180,7 @@ void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const Fram
     }
     if (cloth.simulated()) {
       const Clock::time_point start = Clock::now();
-      cloth.step();
+      cloth.step_frame(frame);
       // Waits for the step (for its time) and stops before a frame of NaNs is handed on.
       if (!cloth.state_is_finite())
         throw runtime_error(script.path + ": frame " + std::to_string(frame) +

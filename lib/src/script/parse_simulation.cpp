@@ -34,9 +34,43 @@ std::array<double, 3> bounded_point(const Reader& reader, const json& value, con
   return p;
 }
 
+/// `keys`: a non-empty array of {"frame": F, "offset": [x, y, z]}, frames strictly increasing.
+std::vector<Key> parse_keys(const Reader& reader, const json& value, const std::string& path) {
+  if (!value.is_array() || value.empty())
+    reader.fail(path,
+                "expected a non-empty array of keys {\"frame\": F, \"offset\": [x, y, z]}, got " + describe(value));
+  const std::string frame_range = "an integer in 0.." + std::to_string(limits::max_key_frame);
+  std::vector<Key> keys;
+  for (std::size_t i = 0; i < value.size(); ++i) {
+    const std::string key_path = child_path(path, i);
+    const json& item = value[i];
+    reader.expect_object(item, key_path, {"frame", "offset"});
+    Key key;
+    const std::string frame_path = child_path(key_path, "frame");
+    key.frame = static_cast<int>(reader.integer(reader.member(item, key_path, "frame", frame_range), frame_path, 0,
+                                                limits::max_key_frame, frame_range));
+    if (!keys.empty() && key.frame <= keys.back().frame)
+      reader.fail(frame_path, "expected a frame after the previous key's (" + std::to_string(keys.back().frame) +
+                                  "), got " + std::to_string(key.frame));
+    key.offset = bounded_point(reader, reader.member(item, key_path, "offset", "an array of 3 numbers"),
+                               child_path(key_path, "offset"), limits::max_key_offset, "metres");
+    keys.push_back(key);
+  }
+  return keys;
+}
+
+/// The keys of a pin or collider object, if it has any; `value` has one other key, its kind.
+std::vector<Key> parse_optional_keys(const Reader& reader, const json& value, const std::string& path) {
+  if (!value.contains("keys")) return {};
+  return parse_keys(reader, value["keys"], child_path(path, "keys"));
+}
+
+/// Members of a pin or collider other than `keys`.
+std::size_t kind_count(const json& value) { return value.size() - (value.contains("keys") ? 1 : 0); }
+
 Pin parse_pin(const Reader& reader, const json& value, const std::string& path) {
-  reader.expect_object(value, path, {"box", "nodes"});
-  if (value.size() != 1) reader.fail(path, "expected exactly one of \"box\" or \"nodes\", got " + describe(value));
+  reader.expect_object(value, path, {"box", "nodes", "keys"});
+  if (kind_count(value) != 1) reader.fail(path, "expected exactly one of \"box\" or \"nodes\", got " + describe(value));
   Pin pin;
   pin.key_path = path;
   if (value.contains("box")) {
@@ -60,12 +94,14 @@ Pin parse_pin(const Reader& reader, const json& value, const std::string& path) 
       pin.nodes.push_back(static_cast<index_t>(reader.integer(
           nodes[i], child_path(nodes_path, i), 0, std::numeric_limits<index_t>::max(), "a node index (an integer >= 0)")));
   }
+  pin.keys = parse_optional_keys(reader, value, path);
   return pin;
 }
 
 Collider parse_collider(const Reader& reader, const json& value, const std::string& path) {
-  reader.expect_object(value, path, {"plane", "sphere"});
-  if (value.size() != 1) reader.fail(path, "expected exactly one of \"plane\" or \"sphere\", got " + describe(value));
+  reader.expect_object(value, path, {"plane", "sphere", "keys"});
+  if (kind_count(value) != 1)
+    reader.fail(path, "expected exactly one of \"plane\" or \"sphere\", got " + describe(value));
   Collider collider;
   const double extent = limits::max_collider_extent;
   if (value.contains("plane")) {
@@ -91,6 +127,7 @@ Collider parse_collider(const Reader& reader, const json& value, const std::stri
                                     child_path(sphere_path, "radius"), "a number in (0, " + shown(extent) + "] (metres)",
                                     [&](double x) { return x > 0 && x <= extent; });
   }
+  collider.keys = parse_optional_keys(reader, value, path);
   return collider;
 }
 
@@ -168,6 +205,8 @@ SimulationOptions parse_simulation(const json& block, const std::string& script_
     const std::string path = child_path(root, "pins");
     const json& pins = block["pins"];
     if (!pins.is_array()) reader.fail(path, "expected an array of pins, got " + describe(pins));
+    if (pins.size() > static_cast<std::size_t>(limits::max_pins))
+      reader.fail(path, "expected at most " + std::to_string(limits::max_pins) + " pins, got " + describe(pins));
     for (std::size_t i = 0; i < pins.size(); ++i) options.pins.push_back(parse_pin(reader, pins[i], child_path(path, i)));
   }
   if (block.contains("colliders")) {

@@ -16,10 +16,13 @@ class PdSolver::Impl {
   virtual index_t constraint_count() const = 0;
   virtual std::size_t bytes_per_iteration() const = 0;
   virtual const SimulationOptions& options() const = 0;
-  virtual void step() = 0;
-  /// Steps, in place, a state held elsewhere in this backend's memory (a cloth's), [node_count * 3]
-  /// each: the solver's own state is not used.
-  virtual void step_in_place(float* node_pos, float* node_vel) = 0;
+  /// Steps frame `frame` (1-based: keys are evaluated at its substeps).
+  virtual void step_frame(int frame) = 0;
+  /// The frame stepped last, 0 before the first.
+  virtual int last_frame() const = 0;
+  /// Steps frame `frame` of a state held elsewhere in this backend's memory (a cloth's),
+  /// [node_count * 3] each, in place: the solver's own state is not used.
+  virtual void step_in_place(float* node_pos, float* node_vel, int frame) = 0;
   virtual void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) = 0;
   virtual std::vector<float> node_pos() const = 0;
   virtual std::vector<float> node_vel() const = 0;
@@ -30,7 +33,8 @@ class PdSolver::Impl {
 };
 
 namespace backend {
-/// Builds the model of the mesh on `System`; `node_pinned` [node_count] is already resolved.
+/// Builds the model of the mesh on `System`; `node_pinned` [node_count] (0 free, p + 1 held by pin
+/// p) is already resolved.
 template <class System>
 std::unique_ptr<PdSolver::Impl> make_pd_solver(const std::vector<index_t>& face_nodes,
                                                const std::vector<float>& node_rest, index_t node_count,

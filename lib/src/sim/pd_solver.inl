@@ -144,19 +144,51 @@ class PdSolverOn final : public PdSolver::Impl {
     assign_from_host(omega_, omega_host_);
     node_pred_.resize(3 * static_cast<std::size_t>(node_count));
     for (auto& iter : node_iter_) iter.resize(3 * static_cast<std::size_t>(node_count));
+    for (const Pin& p : options.pins) keyed_ = keyed_ || !p.keys.empty();
+    for (const Collider& c : options.colliders) keyed_ = keyed_ || !c.keys.empty();
+    // Without keys the pins' and colliders' records never change; with keys they are those of the
+    // first substep until a frame is stepped.
+    std::vector<kernels::PdPinMotion> pins;
     std::vector<kernels::PdCollider> colliders;
-    for (const Collider& c : options.colliders) {
+    substep_motion(0, 0, pins, colliders);
+    assign_from_host(pin_motion_, pins);
+    assign_from_host(colliders_, colliders);
+  }
+
+  /// The pins' and colliders' records of substep `s` (0-based) of frame `frame` (1-based), appended:
+  /// each keyed one where its keys put it at the substep's end, moving by the change of its offset
+  /// over the substep. The substep spans times (frame − 1 + s/S, frame − 1 + (s+1)/S), in frames.
+  void substep_motion(int frame, int s, std::vector<kernels::PdPinMotion>& pins,
+                      std::vector<kernels::PdCollider>& colliders) const {
+    const double start = substep_end_time(frame, s - 1, options_.substeps);
+    const double end = substep_end_time(frame, s, options_.substeps);
+    const double inv_h = 1.0 / options_.step_seconds();
+    // The offset at the substep's end; its change over the substep, as a velocity.
+    const auto motion = [&](const std::vector<Key>& keys, float* velocity) {
+      const std::array<double, 3> a = key_offset(keys, start), b = key_offset(keys, end);
+      for (int i = 0; i < 3; ++i) velocity[i] = static_cast<float>((b[i] - a[i]) * inv_h);
+      return b;
+    };
+    for (const Pin& p : options_.pins) {
+      kernels::PdPinMotion k{};
+      k.keyed = p.keys.empty() ? 0 : 1;
+      const std::array<double, 3> offset = motion(p.keys, k.velocity);
+      for (int a = 0; a < 3; ++a) k.offset[a] = static_cast<float>(offset[a]);
+      pins.push_back(k);
+    }
+    for (const Collider& c : options_.colliders) {
       kernels::PdCollider k{};
       k.kind = c.kind == Collider::Kind::plane ? 0 : 1;
       const double len = std::sqrt(c.normal[0] * c.normal[0] + c.normal[1] * c.normal[1] + c.normal[2] * c.normal[2]);
+      const std::array<double, 3> offset = motion(c.keys, k.velocity);
       for (int a = 0; a < 3; ++a) {
-        k.point[a] = static_cast<float>(c.point[a]);
+        // Without keys the point as given, not point + 0 (which turns −0 into +0).
+        k.point[a] = static_cast<float>(c.keys.empty() ? c.point[a] : c.point[a] + offset[a]);
         k.normal[a] = static_cast<float>(len > 0 ? c.normal[a] / len : 0.0);
       }
       k.radius = static_cast<float>(c.radius);
       colliders.push_back(k);
     }
-    assign_from_host(colliders_, colliders);
   }
 
  public:
@@ -179,10 +211,11 @@ class PdSolverOn final : public PdSolver::Impl {
   }
   const SimulationOptions& options() const override { return options_; }
 
-  void step() override;
-  void step_in_place(float* node_pos, float* node_vel) override {
+  void step_frame(int frame) override;
+  int last_frame() const override { return last_frame_; }
+  void step_in_place(float* node_pos, float* node_vel, int frame) override {
     bind_state(node_pos, node_vel);
-    step();
+    step_frame(frame);
   }
 
   void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) override {
@@ -219,8 +252,10 @@ class PdSolverOn final : public PdSolver::Impl {
   void enqueue_substep(const Policy& policy);
   /// Grid size of the persistent kernel for this mesh on this device, 0 where it is not used.
   int persistent_grid();
-  /// Runs the frame's substeps as persistent kernels; false where they are not used.
-  bool step_persistent();
+  /// Runs `count` substeps as persistent kernels; false where they are not used.
+  bool step_persistent(int count);
+  /// Runs `count` substeps the way `launch_mode_` says.
+  void run_substeps(int count);
 
   SimulationOptions options_;
   index_t node_count_ = 0;
@@ -234,7 +269,13 @@ class PdSolverOn final : public PdSolver::Impl {
   vec<index_t> spring_nodes_, hinge_nodes_;
   vec<float> spring_weight_, spring_rest_, hinge_coef_, hinge_weight_, hinge_rest_;
   vec<index_t> node_slot_offset_, node_slots_;
-  vec<kernels::PdCollider> colliders_;
+  // Pins and colliders as the substep being run sees them ([pin_count], [collider_count]); with
+  // keys, rewritten before each substep from the frame's records ([substeps × count] each).
+  bool keyed_ = false;
+  vec<kernels::PdPinMotion> pin_motion_, frame_pin_motion_;
+  vec<kernels::PdCollider> colliders_, frame_colliders_;
+  vec<float> node_rest_;  // [node_count * 3], kept only for keyed pins
+  int last_frame_ = 0;
   // Scratch of a step.
   vec<float> node_pred_, constraint_force_;
   vec<float> node_iter_[3];
@@ -254,6 +295,14 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
   const auto policy = Traits<System>::policy();
   const thrust::counting_iterator<index_t> zero(0);
   thrust::copy(policy, node_rest.begin(), node_rest.end(), node_pos_.begin());
+  bool keyed_pins = false;
+  for (const Pin& p : options_.pins) keyed_pins = keyed_pins || !p.keys.empty();
+  if (keyed_pins) node_rest_ = node_rest;
+  if (keyed_) {
+    const std::size_t substeps = static_cast<std::size_t>(options_.substeps);
+    frame_pin_motion_.resize(substeps * pin_motion_.size());
+    frame_colliders_.resize(substeps * colliders_.size());
+  }
 
   node_mass_.resize(node_count_);
   thrust::for_each(
@@ -296,15 +345,41 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
 }
 
 template <class System>
-void PdSolverOn<System>::step() {
-  if (launch_mode_ == LaunchMode::persistent && step_persistent()) return;
+void PdSolverOn<System>::step_frame(int frame) {
+  last_frame_ = frame;
+  if (!keyed_) {
+    run_substeps(options_.substeps);
+    return;
+  }
+  // The frame's records uploaded at once, then each substep's copied on the backend to where the
+  // substep's launches (a recorded graph, the persistent kernel) always read them.
+  std::vector<kernels::PdPinMotion> pins;
+  std::vector<kernels::PdCollider> colliders;
+  for (int s = 0; s < options_.substeps; ++s) substep_motion(frame, s, pins, colliders);
+  thrust::copy(pins.begin(), pins.end(), frame_pin_motion_.begin());
+  thrust::copy(colliders.begin(), colliders.end(), frame_colliders_.begin());
+  const auto policy = Traits<System>::policy();
+  const std::ptrdiff_t pin_count = static_cast<std::ptrdiff_t>(pin_motion_.size());
+  const std::ptrdiff_t collider_count = static_cast<std::ptrdiff_t>(colliders_.size());
+  for (int s = 0; s < options_.substeps; ++s) {
+    const auto pin_first = frame_pin_motion_.begin() + s * pin_count;
+    const auto collider_first = frame_colliders_.begin() + s * collider_count;
+    thrust::copy(policy, pin_first, pin_first + pin_count, pin_motion_.begin());
+    thrust::copy(policy, collider_first, collider_first + collider_count, colliders_.begin());
+    run_substeps(1);
+  }
+}
+
+template <class System>
+void PdSolverOn<System>::run_substeps(int count) {
+  if (launch_mode_ == LaunchMode::persistent && step_persistent(count)) return;
   const auto enqueue = [this](const auto& policy) { enqueue_substep(policy); };
   if (launch_mode_ == LaunchMode::plain) {
-    for (int i = 0; i < options_.substeps; ++i) enqueue(Traits<System>::policy());
+    for (int i = 0; i < count; ++i) enqueue(Traits<System>::policy());
     return;
   }
   // One substep is always the same launches with the same arguments: replayed as one graph.
-  step_graph_->run(enqueue, options_.substeps);
+  step_graph_->run(enqueue, count);
 }
 
 template <class System>
@@ -316,7 +391,9 @@ SubstepKernels PdSolverOn<System>::substep_kernels(const float* omega) {
   const PdConstraints model = constraints();
   SubstepKernels s{};
   // Inertial prediction (Bouaziz et al. 2014, eq. 9): the first iterate.
+  const index_t pin_count = static_cast<index_t>(pin_motion_.size());
   s.predict = predict_positions{state_pos_, state_vel_, raw<std::uint8_t>(node_pinned_),
+                                raw<float>(node_rest_), raw<PdPinMotion>(pin_motion_), pin_count,
                                 static_cast<float>(h), gravity, raw<float>(node_pred_), raw<float>(node_iter_[0]),
                                 raw<float>(node_iter_[1])};
   // Local step: every constraint's projection at the current iterate (§4.1).
@@ -328,7 +405,7 @@ SubstepKernels PdSolverOn<System>::substep_kernels(const float* omega) {
                                      static_cast<float>(1.0 / (h * h)), 0.0f,
                                      static_cast<float>(options_.chebyshev.gamma), nullptr};
   // Velocity update, damping and colliders.
-  s.finish = finish_step{raw<std::uint8_t>(node_pinned_), nullptr, static_cast<float>(1.0 / h),
+  s.finish = finish_step{raw<std::uint8_t>(node_pinned_), raw<PdPinMotion>(pin_motion_), pin_count, nullptr, static_cast<float>(1.0 / h),
                          static_cast<float>(std::pow(1.0 - options_.damping, h)), raw<PdCollider>(colliders_),
                          static_cast<index_t>(colliders_.size()), state_pos_, state_vel_};
   s.node_count = node_count_;
@@ -386,13 +463,13 @@ int PdSolverOn<Cuda>::persistent_grid() {
 #endif
 
 template <class System>
-bool PdSolverOn<System>::step_persistent() {
+bool PdSolverOn<System>::step_persistent(int count) {
   if (persistent_grid_ < 0) persistent_grid_ = persistent_grid();  // the device and mesh do not change
   if (persistent_grid_ == 0) return false;
 #if TEAR_CUDA_SYSTEM
   SubstepKernels s = substep_kernels(raw<float>(omega_));
   void* args[] = {&s};
-  for (int i = 0; i < options_.substeps; ++i) {
+  for (int i = 0; i < count; ++i) {
     const cudaError_t status = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(persistent_substep_kernel),
                                                            dim3(persistent_grid_), dim3(persistent_block), args, 0, 0);
     if (status != cudaSuccess)
@@ -400,6 +477,7 @@ bool PdSolverOn<System>::step_persistent() {
   }
   return true;
 #else
+  static_cast<void>(count);
   return false;
 #endif
 }

@@ -13,8 +13,17 @@ namespace tear {
 
 std::vector<std::uint8_t> resolve_pins(const SimulationOptions& options, const std::vector<float>& node_rest,
                                        index_t node_count) {
+  if (options.pins.size() > static_cast<std::size_t>(simulation_limits::max_pins))
+    throw input_error(options.source, "simulation.pins: expected at most " +
+                                          std::to_string(simulation_limits::max_pins) + " pins, got " +
+                                          std::to_string(options.pins.size()));
   std::vector<std::uint8_t> node_pinned(static_cast<std::size_t>(std::max<index_t>(node_count, 0)), 0);
-  for (const Pin& pin : options.pins) {
+  // A node held by several pins follows the first of them.
+  const auto hold = [&](index_t n, std::size_t p) {
+    if (node_pinned[n] == 0) node_pinned[n] = static_cast<std::uint8_t>(p + 1);
+  };
+  for (std::size_t p = 0; p < options.pins.size(); ++p) {
+    const Pin& pin = options.pins[p];
     if (pin.kind == Pin::Kind::box) {
       for (index_t n = 0; n < node_count; ++n) {
         bool inside = true;
@@ -22,7 +31,7 @@ std::vector<std::uint8_t> resolve_pins(const SimulationOptions& options, const s
           const double x = node_rest[3 * static_cast<std::size_t>(n) + a];
           inside = inside && x >= pin.min[a] && x <= pin.max[a];
         }
-        if (inside) node_pinned[n] = 1;
+        if (inside) hold(n, p);
       }
     } else {
       for (std::size_t i = 0; i < pin.nodes.size(); ++i) {
@@ -31,7 +40,7 @@ std::vector<std::uint8_t> resolve_pins(const SimulationOptions& options, const s
           throw input_error(options.source, pin.key_path + ".nodes[" + std::to_string(i) + "]: node " +
                                                 std::to_string(n) + " is out of range (the mesh has " +
                                                 std::to_string(node_count) + " nodes)");
-        node_pinned[n] = 1;
+        hold(n, p);
       }
     }
   }
@@ -79,11 +88,13 @@ index_t PdSolver::constraint_count() const { return impl_->constraint_count(); }
 std::size_t PdSolver::bytes_per_iteration() const { return impl_->bytes_per_iteration(); }
 const SimulationOptions& PdSolver::options() const { return impl_->options(); }
 
-void PdSolver::step() { impl_->step(); }
+void PdSolver::step() { impl_->step_frame(impl_->last_frame() + 1); }
+
+void PdSolver::step_frame(int frame) { impl_->step_frame(frame); }
 
 void PdSolver::step(std::vector<float>& node_pos, std::vector<float>& node_vel) {
   set_state(node_pos, node_vel);
-  impl_->step();
+  impl_->step_frame(impl_->last_frame() + 1);
   node_pos = impl_->node_pos();
   node_vel = impl_->node_vel();
 }
