@@ -15,6 +15,10 @@ namespace tear {
 ///
 /// Any other `{frame...}` (`{frame:4}`, `{frame:x}`, an unclosed `{frame`) is a usage error, so a
 /// typo never becomes part of a file name. Other braces are literal.
+/// Refuses (a usage `Error` naming `--start-frame`) a first frame number below 0, or one whose run
+/// of `frame_count` frames would number past the largest int.
+void check_first_frame(int first_frame, int frame_count);
+
 class FramePattern {
  public:
   /// Parses `pattern`. Throws a usage `Error` naming the pattern when it is empty or holds a

@@ -77,15 +77,15 @@ class ClothEngine final : public Cloth::Engine {
  public:
   explicit ClothEngine(const Mesh& mesh) {
     DeviceCloth<System>& c = cloth_;
-    c.face_nodes.assign(mesh.face_nodes.begin(), mesh.face_nodes.end());
-    c.node_rest.assign(mesh.node_pos.begin(), mesh.node_pos.end());
-    c.node_pos.assign(mesh.node_pos.begin(), mesh.node_pos.end());
+    assign_from_host(c.face_nodes, mesh.face_nodes);
+    assign_from_host(c.node_rest, mesh.node_pos);
+    assign_from_host(c.node_pos, mesh.node_pos);
     if (mesh.node_vel.size() == mesh.node_pos.size())
-      c.node_vel.assign(mesh.node_vel.begin(), mesh.node_vel.end());
+      assign_from_host(c.node_vel, mesh.node_vel);
     else
       c.node_vel.assign(mesh.node_pos.size(), 0.0f);
-    if (!mesh.corner_uv.empty()) c.corner_uv.assign(mesh.corner_uv.begin(), mesh.corner_uv.end());
-    if (!mesh.corner_normal.empty()) c.corner_normal.assign(mesh.corner_normal.begin(), mesh.corner_normal.end());
+    if (!mesh.corner_uv.empty()) assign_from_host(c.corner_uv, mesh.corner_uv);
+    if (!mesh.corner_normal.empty()) assign_from_host(c.corner_normal, mesh.corner_normal);
     c.node_pinned.assign(mesh.node_pos.size() / 3, 0);
     build_device_topology(c.topo, c.face_nodes, mesh.node_count(), remesher_.topology_scratch(), remesher_.allocator());
     // The mesh as read is its own origin: face f lies in input face f, each corner at its own corner.
@@ -136,7 +136,7 @@ class ClothEngine final : public Cloth::Engine {
         p.nodes.clear();
       }
     const std::vector<std::uint8_t> pinned = resolve_pins(listed, std::vector<float>(), node_count());
-    cloth_.node_pinned.assign(pinned.begin(), pinned.end());
+    assign_from_host(cloth_.node_pinned, pinned);
     std::vector<double> boxes;
     for (std::size_t i = 0; i < options.pins.size(); ++i) {
       const Pin& p = options.pins[i];
@@ -145,7 +145,7 @@ class ClothEngine final : public Cloth::Engine {
       boxes.insert(boxes.end(), p.max.begin(), p.max.end());
       boxes.push_back(static_cast<double>(i + 1));
     }
-    pin_boxes_.assign(boxes.begin(), boxes.end());
+    assign_from_host(pin_boxes_, boxes);
     reapply_box_pins();
   }
   bool simulated() const override { return simulated_; }
@@ -289,7 +289,7 @@ class ClothEngine final : public Cloth::Engine {
     std::vector<T> host(count);
     std::memcpy(host.data(), in.data() + at, count * sizeof(T));
     at += count * sizeof(T);
-    v.assign(host.begin(), host.end());
+    assign_from_host(v, host);
   }
 
   void reapply_box_pins() {

@@ -1,6 +1,8 @@
 #include "tear/frame_path.h"
 
+#include <algorithm>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <utility>
 
@@ -74,15 +76,24 @@ std::string FramePattern::path(int frame) const {
   return expand(pattern_, frame, &found);
 }
 
+void check_first_frame(int first_frame, int frame_count) {
+  const int largest = std::numeric_limits<int>::max() - (std::max(frame_count, 1) - 1);
+  if (first_frame < 0 || first_frame > largest)
+    throw Error(ErrorKind::usage, "--start-frame: expected an integer from 0 to " + std::to_string(largest) +
+                                      " for a run of " + std::to_string(frame_count) + " frames, got " +
+                                      std::to_string(first_frame));
+}
+
 void FramePattern::check(int frame_count, int first_frame) const {
+  check_first_frame(first_frame, frame_count);
   // One USD layer holds every frame; any other file holds one.
   if (!has_frame_number_ && frame_count > 1 && !is_usd_path(pattern_))
     throw pattern_error(pattern_, "no frame number, and the run has " + std::to_string(frame_count) +
                                       " frames (put #### or {frame:04} where the number goes, or write one USD "
                                       "layer: .usda)");
   // Placeholders may sit in the extension too ("x.{frame}"), so every frame's path is checked.
-  for (int frame = first_frame; frame - first_frame < frame_count; ++frame) {
-    const std::string frame_path = path(frame);
+  for (int i = 0; i < frame_count; ++i) {
+    const std::string frame_path = path(first_frame + i);
     const std::size_t slash = frame_path.find_last_of('/');
     const std::string name = slash == std::string::npos ? frame_path : frame_path.substr(slash + 1);
     if (name.empty() || name == "." || name == "..")

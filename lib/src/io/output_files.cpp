@@ -119,8 +119,9 @@ void check_output_files(const std::vector<NamedPath>& inputs, const FramePattern
                         const std::vector<NamedPath>& outputs, int first_number) {
   OutputChecker checker(inputs);
   const int frames = pattern == nullptr ? 0 : pattern->has_frame_number() ? frame_count : std::min(frame_count, 1);
-  for (int frame = first_number; frame < first_number + frames; ++frame)
-    checker.check("frame " + std::to_string(frame), pattern->path(frame));
+  if (frames > 0) check_first_frame(first_number, frames);
+  for (int i = 0; i < frames; ++i)
+    checker.check("frame " + std::to_string(first_number + i), pattern->path(first_number + i));
 
   std::error_code error;
   const fs::path cwd = fs::current_path(error);
@@ -136,7 +137,8 @@ void check_output_files(const std::vector<NamedPath>& inputs, const FramePattern
         throw Error(ErrorKind::usage, output.path + ": " + output.what + " is also " + named[j]->what);
     // The frames: compared by file name first, so that a long run costs a string comparison a frame.
     const std::string name = file_name_of(output.path);
-    for (int frame = first_number; frame < first_number + frames; ++frame) {
+    for (int i = 0; i < frames; ++i) {
+      const int frame = first_number + i;
       const std::string frame_path = pattern->path(frame);
       if (file_name_of(frame_path) == name && normal_path(cwd, frame_path) == normal)
         throw Error(ErrorKind::usage, output.path + ": " + output.what + " is also frame " + std::to_string(frame));

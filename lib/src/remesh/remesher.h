@@ -176,9 +176,9 @@ void Remesher<System>::upload_cuts(const std::vector<CutLine>& cuts) {
     }
     if (p.point_count >= 2) paths.push_back(p);
   }
-  cut_paths_.assign(paths.begin(), paths.end());
-  cut_point_x_.assign(xs.begin(), xs.end());
-  cut_point_y_.assign(ys.begin(), ys.end());
+  assign_from_host(cut_paths_, paths);
+  assign_from_host(cut_point_x_, xs);
+  assign_from_host(cut_point_y_, ys);
 }
 
 template <class System>

@@ -73,14 +73,6 @@ RunInputs run_inputs(const Mesh& mesh, const CutScript& script, const RunOptions
   return inputs;
 }
 
-/// Refuses a first frame number below 0, or one whose run would number past the largest int.
-void check_start_frame(int start_frame, int frame_count) {
-  if (start_frame < 0 || start_frame > std::numeric_limits<int>::max() - (frame_count - 1))
-    throw Error(ErrorKind::usage, "--start-frame: expected an integer from 0 to " +
-                                      std::to_string(std::numeric_limits<int>::max() - (frame_count - 1)) +
-                                      " for a run of " + std::to_string(frame_count) + " frames, got " +
-                                      std::to_string(start_frame));
-}
 
 /// The sink the pattern names: a USD layer (one for the run, or one per frame), else a file per frame.
 std::unique_ptr<FrameSink> make_sink(const FramePattern& pattern, const CutScript& script, const RunOptions& options) {
@@ -200,7 +192,7 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
   const FramePattern pattern(options.output_pattern);
   const int frame_count = options.frames == 0 ? script.frames : options.frames;
   check_frame_count(script, frame_count);
-  check_start_frame(options.start_frame, frame_count);
+  check_first_frame(options.start_frame, frame_count);
   pattern.check(frame_count, options.start_frame);
   if (!(options.meters_per_unit > 0) || !std::isfinite(options.meters_per_unit)) {
     char text[32];

@@ -356,16 +356,18 @@ void PdSolverOn<System>::step_frame(int frame) {
   std::vector<kernels::PdPinMotion> pins;
   std::vector<kernels::PdCollider> colliders;
   for (int s = 0; s < options_.substeps; ++s) substep_motion(frame, s, pins, colliders);
-  thrust::copy(pins.begin(), pins.end(), frame_pin_motion_.begin());
-  thrust::copy(colliders.begin(), colliders.end(), frame_colliders_.begin());
+  // (Thrust's copy of an empty range binds a reference to its destination's first element, which
+  // an empty vector does not have: keyed colliders with no pin, keyed pins with no collider.)
+  if (!pins.empty()) thrust::copy(pins.begin(), pins.end(), frame_pin_motion_.begin());
+  if (!colliders.empty()) thrust::copy(colliders.begin(), colliders.end(), frame_colliders_.begin());
   const auto policy = Traits<System>::policy();
   const std::ptrdiff_t pin_count = static_cast<std::ptrdiff_t>(pin_motion_.size());
   const std::ptrdiff_t collider_count = static_cast<std::ptrdiff_t>(colliders_.size());
   for (int s = 0; s < options_.substeps; ++s) {
     const auto pin_first = frame_pin_motion_.begin() + s * pin_count;
     const auto collider_first = frame_colliders_.begin() + s * collider_count;
-    thrust::copy(policy, pin_first, pin_first + pin_count, pin_motion_.begin());
-    thrust::copy(policy, collider_first, collider_first + collider_count, colliders_.begin());
+    if (pin_count > 0) thrust::copy(policy, pin_first, pin_first + pin_count, pin_motion_.begin());
+    if (collider_count > 0) thrust::copy(policy, collider_first, collider_first + collider_count, colliders_.begin());
     run_substeps(1);
   }
 }
