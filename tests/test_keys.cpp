@@ -10,6 +10,7 @@
 #include "catch.h"
 #include "cli_support.h"
 #include "random_meshes.h"
+#include "simulation_support.h"
 #include "tear/cloth.h"
 #include "tear/cut_script.h"
 #include "tear/error.h"
@@ -28,14 +29,8 @@ namespace fs = std::filesystem;
 using tear::test::TempDir;
 using Offset = std::array<double, 3>;
 
-SimulationOptions parse_simulation(const std::string& block, const std::string& path = "s.json") {
-  const tear::CutScript script =
-      tear::parse_cut_script(R"({"version": 1, "frames": 1, "simulation": )" + block + "}", path);
-  REQUIRE(script.simulation.has_value());
-  return *script.simulation;
-}
-
 using tear::test::horizontal_sheet;
+using tear::test::parse_simulation;
 
 bool all_finite(const std::vector<float>& v) {
   return std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); });

@@ -9,7 +9,7 @@
 #include "catch.h"
 #include "pd_math.h"
 #include "pd_oracle.h"
-#include "random_meshes.h"
+#include "simulation_support.h"
 #include "tear/cloth.h"
 #include "tear/cut_script.h"
 #include "tear/error.h"
@@ -24,16 +24,8 @@ using tear::index_t;
 using tear::PdSolver;
 using tear::SimulationOptions;
 
-/// The options of a script whose `simulation` block is `block` (JSON text), as the script's parser
-/// reads them (the only way in: the block is parsed with the script).
-SimulationOptions parse_simulation(const std::string& block, const std::string& path = "s.json") {
-  const tear::CutScript script =
-      tear::parse_cut_script(R"({"version": 1, "frames": 1, "simulation": )" + block + "}", path);
-  REQUIRE(script.simulation.has_value());
-  return *script.simulation;
-}
-
 using tear::test::horizontal_sheet;
+using tear::test::parse_simulation;
 
 /// Pins the nodes on the z = 0 edge of a horizontal sheet.
 tear::Pin edge_pin() {
