@@ -217,6 +217,7 @@ class PdSolverOn final : public PdSolver::Impl {
     bind_state(node_pos, node_vel);
     step_frame(frame);
   }
+  void step_substep_in_place(float* node_pos, float* node_vel, int frame, int s) override;
 
   void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) override {
     bind_state(raw<float>(node_pos_), raw<float>(node_vel_));
@@ -368,6 +369,21 @@ void PdSolverOn<System>::step_frame(int frame) {
     thrust::copy(policy, collider_first, collider_first + collider_count, colliders_.begin());
     run_substeps(1);
   }
+}
+
+template <class System>
+void PdSolverOn<System>::step_substep_in_place(float* node_pos, float* node_vel, int frame, int s) {
+  bind_state(node_pos, node_vel);
+  last_frame_ = frame;
+  if (keyed_) {
+    // The substep's records, where its launches read them (as `step_frame` copies them).
+    std::vector<kernels::PdPinMotion> pins;
+    std::vector<kernels::PdCollider> colliders;
+    substep_motion(frame, s, pins, colliders);
+    thrust::copy(pins.begin(), pins.end(), pin_motion_.begin());
+    thrust::copy(colliders.begin(), colliders.end(), colliders_.begin());
+  }
+  run_substeps(1);
 }
 
 template <class System>
