@@ -1,0 +1,232 @@
+// The cloth tearing by itself (`simulation.tearing`): a notched sheet pulled apart by keyed pins
+// tears from the notch across into two pieces, a high limit does not tear, runs repeat bit for bit,
+// the keys are read and refused as the other simulation keys are.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "catch.h"
+#include "cli_support.h"
+#include "remesh_checks.h"
+#include "tear/cloth.h"
+#include "tear/cut_script.h"
+#include "tear/error.h"
+#include "tear/make_sheet.h"
+#include "tear/run_cuts.h"
+#include "tear/simulation.h"
+#include "tear/validate_mesh.h"
+#include "tear/write_mesh.h"
+#include "test_support.h"
+
+namespace {
+
+using tear::index_t;
+namespace fs = std::filesystem;
+using tear::test::TempDir;
+
+constexpr int pull_frames = 24;
+
+/// A sheet [0,1]² notched by a slit from its bottom border to (0.5, 0.25) in frame 1, its left and
+/// right strips pulled apart by keyed pins (0.15 m each way over `pull_frames` frames), tearing at
+/// `stretch`.
+std::string pull_script(double stretch) {
+  const std::string frames = std::to_string(pull_frames);
+  return R"({"version": 1, "frames": )" + frames + R"(,
+    "cuts": [{"frame": 1, "space": "rest-xy", "polyline": [[0.5, -0.1], [0.5, 0.25]]}],
+    "simulation": {"gravity": [0, 0, 0], "substeps": 4, "iterations": 40,
+      "pins": [
+        {"box": {"min": [-1, -1, -1], "max": [0.04, 2, 1]},
+         "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": )" +
+         frames + R"(, "offset": [-0.15, 0, 0]}]},
+        {"box": {"min": [0.96, -1, -1], "max": [2, 2, 1]},
+         "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": )" +
+         frames + R"(, "offset": [0.15, 0, 0]}]}],
+      "tearing": {"stretch": )" +
+         std::to_string(stretch) + R"(}}})";
+}
+
+tear::Mesh pull_sheet() {
+  tear::SheetOptions sheet;
+  sheet.face_count = 800;
+  return tear::make_sheet(sheet);
+}
+
+/// The piece (connected component through faces) of every node.
+std::vector<index_t> node_pieces(const tear::Mesh& m) {
+  std::vector<index_t> parent(static_cast<std::size_t>(m.node_count()));
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto find = [&](index_t n) {
+    while (parent[n] != n) n = parent[n] = parent[parent[n]];
+    return n;
+  };
+  for (std::size_t f = 0; f < m.face_nodes.size(); f += 3)
+    for (int k = 1; k < 3; ++k) {
+      const index_t a = find(m.face_nodes[f]), b = find(m.face_nodes[f + k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<index_t> piece(parent.size());
+  for (index_t n = 0; n < m.node_count(); ++n) piece[n] = find(n);
+  return piece;
+}
+
+struct PullResult {
+  index_t tear_events = 0;
+  double torn_length = 0;
+  index_t pieces = 0;
+  bool sides_apart = false;  ///< no piece holds nodes of both pinned strips
+  bool edge_nodes = false;   ///< some node's origin lies strictly inside an input edge
+};
+
+PullResult pull(double stretch) {
+  const tear::Mesh mesh = pull_sheet();
+  const double area = tear::test::total_area(mesh);
+  const tear::CutScript script = tear::parse_cut_script(pull_script(stretch), "pull.json");
+  tear::Cloth cloth(mesh, tear::test::test_device());
+  PullResult result;
+  tear::run_cuts(cloth, script, pull_frames, [&](const tear::FrameResult& frame, const tear::Cloth& c) {
+    INFO("frame " << frame.frame);
+    CHECK(frame.tearing);
+    CHECK(frame.tear_events >= 0);
+    CHECK(frame.torn_length >= 0);
+    CHECK((frame.tear_events > 0) == (frame.torn_length > 0));
+    result.tear_events += frame.tear_events;
+    result.torn_length += frame.torn_length;
+    // A valid oriented manifold (no bow-ties) whose rest shape keeps its area.
+    tear::Mesh rest_shape = c.mesh();
+    rest_shape.node_pos = c.node_rest();
+    const tear::MeshReport report = tear::validate_mesh(rest_shape, c.topology(), tear::test::test_device());
+    INFO(report.describe());
+    CHECK(report.ok());
+    CHECK(std::abs(tear::test::total_area(rest_shape) - area) <= 1e-5 * area);
+    REQUIRE(c.state_is_finite());
+  });
+  const tear::Mesh m = cloth.mesh();
+  const std::vector<index_t> piece = node_pieces(m);
+  std::vector<index_t> roots(piece);
+  std::sort(roots.begin(), roots.end());
+  result.pieces = static_cast<index_t>(std::unique(roots.begin(), roots.end()) - roots.begin());
+  const std::vector<float> rest = cloth.node_rest();
+  std::vector<index_t> left, right;
+  for (index_t n = 0; n < m.node_count(); ++n) {
+    if (rest[3 * n] <= 0.04f) left.push_back(piece[n]);
+    if (rest[3 * n] >= 0.96f) right.push_back(piece[n]);
+  }
+  std::sort(left.begin(), left.end());
+  std::sort(right.begin(), right.end());
+  std::vector<index_t> both;
+  std::set_intersection(left.begin(), left.end(), right.begin(), right.end(), std::back_inserter(both));
+  result.sides_apart = !left.empty() && !right.empty() && both.empty();
+  for (index_t n = 0; n < m.node_count(); ++n) {
+    const float b1 = m.node_origin_bary[2 * n], b2 = m.node_origin_bary[2 * n + 1], b0 = 1.0f - b1 - b2;
+    const int zeros = (b0 == 0.0f) + (b1 == 0.0f) + (b2 == 0.0f);
+    const bool inside = b0 > 1e-4f && b1 > 1e-4f;
+    if (zeros == 1 && (inside || (b1 > 1e-4f && b2 > 1e-4f) || (b0 > 1e-4f && b2 > 1e-4f))) result.edge_nodes = true;
+  }
+  WARN("stretch " << stretch << ": " << result.tear_events << " tear events, " << result.torn_length << " m torn, "
+                  << result.pieces << " pieces, " << m.face_count() << " faces");
+  return result;
+}
+
+}  // namespace
+
+TEST_CASE("tearing: a notched sheet pulled apart tears from the notch across into two pieces", "[tearing]") {
+  const PullResult r = pull(1.3);
+  INFO("events " << r.tear_events << ", torn " << r.torn_length << " m, pieces " << r.pieces);
+  CHECK(r.tear_events > 0);
+  CHECK(r.torn_length > 0.5);  // at least the 0.75 m ligament, less what snapping and nodes take
+  CHECK(r.pieces >= 2);
+  CHECK(r.sides_apart);
+  CHECK(r.edge_nodes);
+}
+
+TEST_CASE("tearing: the same pull with a high limit does not tear", "[tearing]") {
+  const PullResult r = pull(100);
+  CHECK(r.tear_events == 0);
+  CHECK(r.torn_length == 0);
+  CHECK(r.pieces == 1);
+  CHECK_FALSE(r.sides_apart);
+}
+
+TEST_CASE("tearing: a tearing run gives the same bytes twice, and reports its tears", "[tearing]") {
+  TempDir dir;
+  tear::write_mesh(pull_sheet(), (dir / "sheet.obj").string());
+  const fs::path script = dir.file("pull.json", pull_script(1.3));
+  const std::string device = tear::to_string(tear::test::test_device());
+  const std::string inputs = tear::test::quoted(dir / "sheet.obj") + " " + tear::test::quoted(script);
+  const auto run = [&](const std::string& folder) {
+    return dir.tear("run " + inputs + " -v -o " + tear::test::quoted(dir / folder / "f.####.ply") + " --device " +
+                    device + " --report " + tear::test::quoted(dir / folder / "report.json"));
+  };
+  const tear::test::Run a = run("a");
+  REQUIRE(a.exit_code == 0);
+  REQUIRE(run("b").exit_code == 0);
+  CHECK(a.out.find(" tear events (") != std::string::npos);
+  for (int f = 1; f <= pull_frames; ++f) {
+    char name[32];
+    std::snprintf(name, sizeof name, "f.%04d.ply", f);
+    INFO(name);
+    const std::string bytes = tear::test::read_bytes(dir / "a" / name);
+    REQUIRE_FALSE(bytes.empty());
+    CHECK(bytes == tear::test::read_bytes(dir / "b" / name));
+  }
+  const nlohmann::json report = nlohmann::json::parse(tear::test::read_bytes(dir / "a" / "report.json"));
+  index_t events = 0;
+  double length = 0;
+  for (const auto& frame : report["frames"]) {
+    events += frame["tear_events"].get<index_t>();
+    length += frame["torn_length_m"].get<double>();
+  }
+  CHECK(events > 0);
+  CHECK(length > 0);
+}
+
+TEST_CASE("tearing: the keys are read with their defaults", "[tearing]") {
+  const auto parse = [](const std::string& block) {
+    return *tear::parse_cut_script(R"({"version": 1, "frames": 1, "snap": 0.1, "simulation": )" + block + "}", "s.json")
+                .simulation;
+  };
+  const tear::SimulationOptions off = parse("{}");
+  CHECK_FALSE(off.tearing.enabled());
+  const tear::SimulationOptions on = parse(R"({"tearing": {"stretch": 1.25}})");
+  CHECK(on.tearing.enabled());
+  CHECK(on.tearing.stretch == 1.25);
+  CHECK(on.tearing.max_faces_per_step == 64);
+  CHECK(on.tearing.snap == 0.1);  // the script's
+  const tear::SimulationOptions capped = parse(R"({"tearing": {"stretch": 1000, "max_faces_per_step": 3}})");
+  CHECK(capped.tearing.max_faces_per_step == 3);
+}
+
+TEST_CASE("tearing: every error names the file and the key path", "[tearing]") {
+  const std::pair<const char*, const char*> cases[] = {
+      {R"({"tearing": 1.5})", "simulation.tearing: expected an object, got 1.5"},
+      {R"({"tearing": {}})", "simulation.tearing.stretch: missing (expected a number in (1, 1000] (stretch ratio))"},
+      {R"({"tearing": {"stretch": 1}})",
+       "simulation.tearing.stretch: expected a number in (1, 1000] (stretch ratio), got 1"},
+      {R"({"tearing": {"stretch": 0.5}})",
+       "simulation.tearing.stretch: expected a number in (1, 1000] (stretch ratio), got 0.5"},
+      {R"({"tearing": {"stretch": 1001}})",
+       "simulation.tearing.stretch: expected a number in (1, 1000] (stretch ratio), got 1001"},
+      {R"({"tearing": {"stretch": "2"}})",
+       "simulation.tearing.stretch: expected a number in (1, 1000] (stretch ratio), got \"2\""},
+      {R"({"tearing": {"stretch": 2, "max_faces_per_step": 0}})",
+       "simulation.tearing.max_faces_per_step: expected an integer in 1..100000000 (faces per substep), got 0"},
+      {R"({"tearing": {"stretch": 2, "max_faces_per_step": 2.5}})",
+       "simulation.tearing.max_faces_per_step: expected an integer in 1..100000000 (faces per substep), got 2.5"},
+      {R"({"tearing": {"stretch": 2, "toughness": 3}})",
+       "simulation.tearing.toughness: unknown key (expected stretch or max_faces_per_step)"},
+  };
+  for (const auto& [text, message] : cases) {
+    INFO(text);
+    try {
+      tear::parse_cut_script(std::string(R"({"version": 1, "frames": 1, "simulation": )") + text + "}", "script.json");
+      FAIL("parsed without an error");
+    } catch (const tear::Error& e) {
+      CHECK(e.kind() == tear::ErrorKind::input);
+      CHECK(std::string(e.what()) == std::string("script.json: ") + message);
+    }
+  }
+}
