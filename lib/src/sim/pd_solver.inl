@@ -376,12 +376,20 @@ void PdSolverOn<System>::step_substep_in_place(float* node_pos, float* node_vel,
   bind_state(node_pos, node_vel);
   last_frame_ = frame;
   if (keyed_) {
-    // The substep's records, where its launches read them (as `step_frame` copies them).
+    // As `step_frame` does: the frame's records uploaded, the substep's copied on the backend to
+    // where its launches read them.
     std::vector<kernels::PdPinMotion> pins;
     std::vector<kernels::PdCollider> colliders;
-    substep_motion(frame, s, pins, colliders);
-    thrust::copy(pins.begin(), pins.end(), pin_motion_.begin());
-    thrust::copy(colliders.begin(), colliders.end(), colliders_.begin());
+    for (int t = 0; t < options_.substeps; ++t) substep_motion(frame, t, pins, colliders);
+    thrust::copy(pins.begin(), pins.end(), frame_pin_motion_.begin());
+    thrust::copy(colliders.begin(), colliders.end(), frame_colliders_.begin());
+    const auto policy = Traits<System>::policy();
+    const std::ptrdiff_t pin_count = static_cast<std::ptrdiff_t>(pin_motion_.size());
+    const std::ptrdiff_t collider_count = static_cast<std::ptrdiff_t>(colliders_.size());
+    const auto pin_first = frame_pin_motion_.begin() + s * pin_count;
+    const auto collider_first = frame_colliders_.begin() + s * collider_count;
+    thrust::copy(policy, pin_first, pin_first + pin_count, pin_motion_.begin());
+    thrust::copy(policy, collider_first, collider_first + collider_count, colliders_.begin());
   }
   run_substeps(1);
 }
