@@ -7,6 +7,12 @@
 // the faces torn at once share no node. The crack runs through the face across r in the rest
 // shape, and is written as `intersect_cuts` writes a cut's crossings (per-face half-edge hits and
 // the pairs of places a line joins), so the rest of §2.1 and §2.2–2.4 treat it as a scripted cut.
+//
+// Example: one face, nodes 0 1 2 at rest (0,0,0) (1,0,0) (0,1,0), now at (0,0,0) (1.5,0,0) (0,1,0):
+// stretch 1.5 along r = (1,0,0). No node's line across r enters the face, so the crack runs through
+// the centroid along x = 1/3: half_hit_sum = [2/3, 0, 1/3] (edge 0 from node 1 to node 2 at 2/3,
+// edge 2 from node 0 to node 1 at 1/3), half_hit_count = [1, 0, 1], face_pairs = the bit of the
+// places (edge 0, edge 2), crack_length = 2/3 m (from (1/3, 0) to (1/3, 2/3)).
 #pragma once
 
 #include <cmath>

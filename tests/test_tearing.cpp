@@ -20,6 +20,7 @@
 #include "tear/simulation.h"
 #include "tear/validate_mesh.h"
 #include "tear/write_mesh.h"
+#include "tear_cracks.h"
 #include "test_support.h"
 
 namespace {
@@ -232,4 +233,57 @@ TEST_CASE("tearing: every error names the file and the key path", "[tearing]") {
       CHECK(std::string(e.what()) == std::string("script.json: ") + message);
     }
   }
+}
+
+TEST_CASE("tear_cracks: a triangle stretched along x cracks across x through its centroid", "[tearing]") {
+  // The example of kernels/tear_cracks.h: one face, every edge on the border.
+  const index_t face_nodes[] = {0, 1, 2}, face_edges[] = {0, 1, 2}, edge_faces[] = {0, -1, 0, -1, 0, -1};
+  const index_t node_face_offset[] = {0, 1, 2, 3}, node_faces[] = {0, 0, 0};
+  const float node_rest[] = {0, 0, 0, 1, 0, 0, 0, 1, 0}, node_pos[] = {0, 0, 0, 1.5f, 0, 0, 0, 1, 0};
+  double r[3];
+  CHECK(tear::kernels::face_principal_stretch(face_nodes, node_rest, node_pos, 0, r) == Approx(1.5));
+  CHECK(std::abs(r[0]) == Approx(1.0));
+  CHECK(r[1] == Approx(0.0).margin(1e-12));
+  CHECK(tear::kernels::face_principal_stretch(face_nodes, node_rest, node_rest, 0) == Approx(1.0));
+  const index_t chosen[] = {0};
+  double half_hit_sum[3] = {0, 0, 0}, crack_length[1] = {0};
+  index_t half_hit_count[3] = {0, 0, 0};
+  std::uint16_t face_pairs[1] = {0};
+  const tear::kernels::write_cracks write{chosen,           face_nodes,     face_edges, edge_faces,
+                                          node_face_offset, node_faces,     node_rest,  node_pos,
+                                          half_hit_sum,     half_hit_count, face_pairs, crack_length};
+  write(0);
+  CHECK(half_hit_sum[0] == Approx(2.0 / 3));
+  CHECK(half_hit_sum[2] == Approx(1.0 / 3));
+  CHECK(half_hit_count[0] == 1);
+  CHECK(half_hit_count[1] == 0);
+  CHECK(half_hit_count[2] == 1);
+  CHECK(face_pairs[0] == (1u << tear::kernels::location_pair_bit(0, 2)));
+  CHECK(crack_length[0] == Approx(2.0 / 3));
+}
+
+TEST_CASE("tear_cracks: faces sharing a node never tear together; the most stretched goes first", "[tearing]") {
+  // Two faces on the edge 1-2 of a unit square, face 1 stretched more than face 0, both over 1.1.
+  const index_t face_nodes[] = {0, 1, 2, 1, 3, 2};
+  const index_t node_face_offset[] = {0, 1, 3, 5, 6}, node_faces[] = {0, 0, 1, 0, 1, 1};
+  const double face_stretch[] = {1.2, 1.3};
+  std::uint8_t chosen[2] = {9, 9};
+  const tear::kernels::choose_tearing_faces choose{face_nodes, node_face_offset, node_faces, face_stretch, 1.1, chosen};
+  choose(0);
+  choose(1);
+  CHECK(chosen[0] == 0);
+  CHECK(chosen[1] == 1);
+  // As stretched: the lower index goes first.
+  const double tied[] = {1.3, 1.3};
+  const tear::kernels::choose_tearing_faces tie{face_nodes, node_face_offset, node_faces, tied, 1.1, chosen};
+  tie(0);
+  tie(1);
+  CHECK(chosen[0] == 1);
+  CHECK(chosen[1] == 0);
+  // Under the limit: none.
+  const tear::kernels::choose_tearing_faces high{face_nodes, node_face_offset, node_faces, tied, 1.5, chosen};
+  high(0);
+  high(1);
+  CHECK(chosen[0] == 0);
+  CHECK(chosen[1] == 0);
 }
