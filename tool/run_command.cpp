@@ -62,9 +62,9 @@ void print_frame(const FrameResult& frame, const Cloth& cloth, int last_frame) {
   // Cuts that split nothing (they missed the cloth, or retraced a tear) are said to have done so.
   const bool changed = s.nodes_after != s.nodes_before || s.faces_after != s.faces_before;
   std::cout << "frame " << frame.output_frame << '/' << last_frame << ": " << frame.cut_count
-            << (frame.cut_count == 1 ? " cut" : " cuts") << (frame.cut_count > 0 && !changed ? " (changed nothing), " : ", ")
-            << s.nodes_before << " -> " << s.nodes_after << " nodes, "
-            << s.faces_before << " -> " << s.faces_after << " faces, ";
+            << (frame.cut_count == 1 ? " cut" : " cuts")
+            << (frame.cut_count > 0 && !changed ? " (changed nothing), " : ", ") << s.nodes_before << " -> "
+            << s.nodes_after << " nodes, " << s.faces_before << " -> " << s.faces_after << " faces, ";
   // Tears happen while the frame is stepped, after its cuts: the mesh they leave is the frame's.
   if (frame.tearing)
     std::cout << frame.tear_events << (frame.tear_events == 1 ? " tear event" : " tear events") << " ("
