@@ -266,7 +266,7 @@ TEST_CASE("tear_cracks: a triangle stretched along x cracks across x through its
   CHECK(crack_length[0] == Approx(2.0 / 3));
 }
 
-TEST_CASE("tear_cracks: faces sharing a node never tear together; the most stretched goes first", "[tearing]") {
+TEST_CASE("tear_cracks: faces sharing a node never tear together, the most stretched going first", "[tearing]") {
   // Two faces on the edge 1-2 of a unit square, face 1 stretched more than face 0, both over 1.1.
   const index_t face_nodes[] = {0, 1, 2, 1, 3, 2};
   const index_t node_face_offset[] = {0, 1, 3, 5, 6}, node_faces[] = {0, 0, 1, 0, 1, 1};
