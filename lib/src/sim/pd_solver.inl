@@ -217,6 +217,7 @@ class PdSolverOn final : public PdSolver::Impl {
     bind_state(node_pos, node_vel);
     step_frame(frame);
   }
+  void step_substep_in_place(float* node_pos, float* node_vel, int frame, int s) override;
 
   void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) override {
     bind_state(raw<float>(node_pos_), raw<float>(node_vel_));
@@ -370,6 +371,29 @@ void PdSolverOn<System>::step_frame(int frame) {
     if (collider_count > 0) thrust::copy(policy, collider_first, collider_first + collider_count, colliders_.begin());
     run_substeps(1);
   }
+}
+
+template <class System>
+void PdSolverOn<System>::step_substep_in_place(float* node_pos, float* node_vel, int frame, int s) {
+  bind_state(node_pos, node_vel);
+  last_frame_ = frame;
+  if (keyed_) {
+    // As `step_frame` does: the frame's records uploaded, the substep's copied on the backend to
+    // where its launches read them.
+    std::vector<kernels::PdPinMotion> pins;
+    std::vector<kernels::PdCollider> colliders;
+    for (int t = 0; t < options_.substeps; ++t) substep_motion(frame, t, pins, colliders);
+    thrust::copy(pins.begin(), pins.end(), frame_pin_motion_.begin());
+    thrust::copy(colliders.begin(), colliders.end(), frame_colliders_.begin());
+    const auto policy = Traits<System>::policy();
+    const std::ptrdiff_t pin_count = static_cast<std::ptrdiff_t>(pin_motion_.size());
+    const std::ptrdiff_t collider_count = static_cast<std::ptrdiff_t>(colliders_.size());
+    const auto pin_first = frame_pin_motion_.begin() + s * pin_count;
+    const auto collider_first = frame_colliders_.begin() + s * collider_count;
+    thrust::copy(policy, pin_first, pin_first + pin_count, pin_motion_.begin());
+    thrust::copy(policy, collider_first, collider_first + collider_count, colliders_.begin());
+  }
+  run_substeps(1);
 }
 
 template <class System>
