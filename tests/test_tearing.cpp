@@ -15,6 +15,7 @@
 #include "remesh_checks.h"
 #include "tear/cloth.h"
 #include "tear/cut_script.h"
+#include "tear/device.h"
 #include "tear/error.h"
 #include "tear/make_sheet.h"
 #include "tear/run_cuts.h"
@@ -365,4 +366,36 @@ TEST_CASE("tearing properties: random sheets pulled at random tear into valid me
     if (events > 0) ++torn_seeds;
   }
   if (!one_seed) CHECK(torn_seeds >= 4);  // most pulls tear
+}
+
+TEST_CASE("tearing: CUDA and CPU tear the pulled sheet alike", "[tearing][parity]") {
+  if (!tear::cuda_available()) {
+    WARN("no GPU: tearing parity not checked");
+    return;
+  }
+  // The same pull on both backends, frame by frame: the same faces torn (same topology, node for
+  // node), positions within the solver's parity bound.
+  const tear::Mesh mesh = pull_sheet();
+  const tear::CutScript script = tear::parse_cut_script(pull_script(1.3), "pull.json");
+  std::vector<tear::Mesh> frames[2];
+  int torn[2] = {0, 0};
+  const tear::Device devices[2] = {tear::Device::cpu, tear::Device::cuda};
+  for (int d = 0; d < 2; ++d) {
+    tear::Cloth cloth(mesh, devices[d]);
+    tear::run_cuts(cloth, script, pull_frames, [&](const tear::FrameResult& frame, const tear::Cloth& c) {
+      torn[d] += frame.tear_events;
+      frames[d].push_back(c.mesh());
+    });
+  }
+  REQUIRE(frames[0].size() == frames[1].size());
+  CHECK(torn[0] > 0);
+  CHECK(torn[0] == torn[1]);
+  for (std::size_t f = 0; f < frames[0].size(); ++f) {
+    INFO("frame " << f + 1);
+    REQUIRE(frames[0][f].face_nodes == frames[1][f].face_nodes);
+    double worst = 0;
+    for (std::size_t k = 0; k < frames[0][f].node_pos.size(); ++k)
+      worst = std::max(worst, std::abs(double(frames[0][f].node_pos[k]) - frames[1][f].node_pos[k]));
+    CHECK(worst <= 1e-3);
+  }
 }
