@@ -20,6 +20,21 @@
 
 namespace tear::test {
 
+/// A sheet of about `faces` faces (`make_sheet`, regular unless `irregular`) turned into the xz plane
+/// ([0,1] × {0} × [0,1]), so that gravity -y hangs it down when one edge is pinned.
+inline Mesh horizontal_sheet(index_t faces, bool irregular = false) {
+  SheetOptions o;
+  o.face_count = faces;
+  o.irregular = irregular;
+  Mesh mesh = make_sheet(o);
+  for (index_t n = 0; n < mesh.node_count(); ++n) {
+    const float y = mesh.node_pos[3 * n + 1];
+    mesh.node_pos[3 * n + 1] = 0;
+    mesh.node_pos[3 * n + 2] = y;
+  }
+  return mesh;
+}
+
 /// A seeded random source with a portable mapping to doubles and integers.
 class Random {
  public:

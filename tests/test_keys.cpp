@@ -35,19 +35,7 @@ SimulationOptions parse_simulation(const std::string& block, const std::string& 
   return *script.simulation;
 }
 
-/// A regular sheet of about `faces` faces in the xz plane ([0,1] × {0} × [0,1]).
-tear::Mesh horizontal_sheet(index_t faces) {
-  tear::SheetOptions o;
-  o.face_count = faces;
-  o.irregular = false;
-  tear::Mesh mesh = tear::make_sheet(o);
-  for (index_t n = 0; n < mesh.node_count(); ++n) {
-    const float y = mesh.node_pos[3 * n + 1];
-    mesh.node_pos[3 * n + 1] = 0;
-    mesh.node_pos[3 * n + 2] = y;
-  }
-  return mesh;
-}
+using tear::test::horizontal_sheet;
 
 bool all_finite(const std::vector<float>& v) {
   return std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); });

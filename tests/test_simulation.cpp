@@ -9,6 +9,7 @@
 #include "catch.h"
 #include "pd_math.h"
 #include "pd_oracle.h"
+#include "random_meshes.h"
 #include "tear/cloth.h"
 #include "tear/cut_script.h"
 #include "tear/error.h"
@@ -32,20 +33,7 @@ SimulationOptions parse_simulation(const std::string& block, const std::string& 
   return *script.simulation;
 }
 
-/// A regular sheet of about `faces` faces turned into the xz plane ([0,1] × {0} × [0,1]), so that
-/// gravity -y hangs it down when one edge is pinned.
-tear::Mesh horizontal_sheet(index_t faces, bool irregular = false) {
-  tear::SheetOptions o;
-  o.face_count = faces;
-  o.irregular = irregular;
-  tear::Mesh mesh = tear::make_sheet(o);
-  for (index_t n = 0; n < mesh.node_count(); ++n) {
-    const float y = mesh.node_pos[3 * n + 1];
-    mesh.node_pos[3 * n + 1] = 0;
-    mesh.node_pos[3 * n + 2] = y;
-  }
-  return mesh;
-}
+using tear::test::horizontal_sheet;
 
 /// Pins the nodes on the z = 0 edge of a horizontal sheet.
 tear::Pin edge_pin() {
@@ -178,7 +166,8 @@ TEST_CASE("simulation: options default to the documented values", "[simulation]"
 }
 
 TEST_CASE("simulation: every key is read", "[simulation]") {
-  const SimulationOptions o = parse_simulation(R"({"fps": 30, "substeps": 2, "iterations": 50.0, "gravity": [0, 0, -9.8],
+  const SimulationOptions o =
+      parse_simulation(R"({"fps": 30, "substeps": 2, "iterations": 50.0, "gravity": [0, 0, -9.8],
     "damping": 0.5, "density": 0.15, "stretch_stiffness": 200, "bend_stiffness": 0,
     "chebyshev": {"rho": 0.9, "gamma": 1, "delay": 0},
     "pins": [{"box": {"min": [0, 0.9, -1], "max": [1, 1, 1]}}, {"nodes": [0, 5]}],
@@ -295,8 +284,9 @@ TEST_CASE("simulation: numbers beyond a double are errors", "[simulation]") {
   // JSON has no NaN or infinity, and 1e999 is not read as infinity.
   CHECK_THROWS_WITH(parse_simulation(R"({"density": 1e999})"),
                     "s.json: simulation.density: expected a finite number, got 1e999 (beyond the range of a double)");
-  CHECK_THROWS_WITH(parse_simulation(R"({"gravity": [0, -1e400, 0]})"),
-                    "s.json: simulation.gravity[1]: expected a finite number, got -1e400 (beyond the range of a double)");
+  CHECK_THROWS_WITH(
+      parse_simulation(R"({"gravity": [0, -1e400, 0]})"),
+      "s.json: simulation.gravity[1]: expected a finite number, got -1e400 (beyond the range of a double)");
 }
 
 TEST_CASE("simulation: the largest and smallest normals are normalised, a frame's iterations may reach the limit",
@@ -315,7 +305,7 @@ TEST_CASE("simulation: pins resolve to nodes, and a listed node out of range nam
   const tear::Mesh mesh = horizontal_sheet(200);
   SimulationOptions o = parse_simulation((R"({"pins": [{"box": {"min": [-1, -1, -0.001],
       "max": [2, 1, 0.001]}}, {"nodes": [120]}]})"),
-                                               "s.json");
+                                         "s.json");
   const auto pinned = tear::resolve_pins(o, mesh.node_pos, mesh.node_count());
   for (index_t n = 0; n < mesh.node_count(); ++n) {
     INFO("node " << n);
@@ -444,7 +434,7 @@ TEST_CASE("simulation: pinned nodes never move", "[simulation]") {
   const tear::Mesh mesh = horizontal_sheet(800, true);
   SimulationOptions o = parse_simulation((R"({"pins": [{"box": {"min": [-1, -1, -0.001],
       "max": [0.3, 1, 0.001]}}, {"nodes": [200, 201]}], "colliders": [{"sphere": {"center": [0.5, -0.4, 0.5], "radius": 0.3}}]})"),
-                                               "s.json");
+                                         "s.json");
   PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
   const auto pinned = solver.node_pinned();
   const index_t pinned_count =
@@ -521,10 +511,10 @@ TEST_CASE("simulation: bending stiffness holds a clamped sheet up", "[simulation
 
 TEST_CASE("simulation: colliders keep nodes out", "[simulation]") {
   const tear::Mesh mesh = horizontal_sheet(800);
-  const SimulationOptions o = parse_simulation(
-      (R"({"damping": 0.5, "colliders": [{"plane": {"point": [0, -0.5, 0], "normal": [0, 1, 0]}},
+  const SimulationOptions o =
+      parse_simulation((R"({"damping": 0.5, "colliders": [{"plane": {"point": [0, -0.5, 0], "normal": [0, 1, 0]}},
                       {"sphere": {"center": [0.5, -0.3, 0.5], "radius": 0.2}}]})"),
-      "s.json");
+                       "s.json");
   PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
   for (int f = 0; f < 36; ++f) {
     solver.step();
