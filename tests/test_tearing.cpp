@@ -13,6 +13,7 @@
 #include "cli_support.h"
 #include "random_meshes.h"
 #include "remesh_checks.h"
+#include "tear/bench.h"
 #include "tear/cloth.h"
 #include "tear/cut_script.h"
 #include "tear/device.h"
@@ -191,6 +192,32 @@ TEST_CASE("tearing: a tearing run gives the same bytes twice and when resumed, a
   }
   CHECK(events > 0);
   CHECK(length > 0);
+}
+
+TEST_CASE("tearing: the bench's tear part times the pull scene's parts, and the CLI prints them", "[tearing][bench]") {
+  tear::BenchOptions options;
+  options.resolutions = {tear::DemoResolution::low};
+  options.repeats = 1;
+  options.warmup = 0;
+  const std::vector<tear::TearBenchRow> rows = tear::run_tear_bench(options, tear::test::test_device());
+  REQUIRE(rows.size() == 1);
+  const tear::TearBenchRow& r = rows[0];
+  INFO(tear::to_json(r));
+  CHECK(r.frames == tear::demo_frames);
+  CHECK(r.faces_start == tear::demo_face_count(tear::DemoResolution::low));
+  CHECK(r.faces_end > r.faces_start);
+  CHECK(r.tear_events > 0);
+  CHECK(r.solver_ms > 0);
+  CHECK(r.check_ms > 0);
+  CHECK(r.apply_ms > 0);
+  CHECK(r.rebuild_ms > 0);
+  CHECK(r.frame_ms_mean >= r.solver_ms + r.check_ms + r.apply_ms);
+  CHECK(r.tear_fraction == Approx((r.check_ms + r.apply_ms + r.rebuild_ms) / r.solver_ms));
+
+  TempDir dir;
+  const tear::test::Run bad = dir.tear("bench --device cpu --only tears --repeats 1 --warmup 0");
+  CHECK(bad.exit_code == 1);
+  CHECK(bad.err.find("expected remesh, pd, scene or tear") != std::string::npos);
 }
 
 TEST_CASE("tearing: the keys are read with their defaults", "[tearing]") {

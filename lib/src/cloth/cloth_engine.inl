@@ -1,6 +1,7 @@
 // tear::Cloth on either backend: one DeviceCloth, cut in place by the remesher and stepped in place
 // by the solver; nothing goes through the host between frames but what a frame writes.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -158,11 +159,24 @@ class ClothEngine final : public Cloth::Engine {
       refresh_solver();
       solver_->step_in_place(raw<float>(cloth_.node_pos), raw<float>(cloth_.node_vel), frame);
     } else {
-      // Torn between substeps: the next substep steps the torn cloth with its new model.
+      // Torn between substeps: the next substep steps the torn cloth with its new model. The check
+      // after each substep reads back a count, so waiting for the backend to time the parts costs
+      // nothing more.
+      using Clock = std::chrono::steady_clock;
+      const auto ms = [](Clock::time_point a, Clock::time_point b) {
+        return std::chrono::duration<double, std::milli>(b - a).count();
+      };
       for (int s = 0; s < options_.substeps; ++s) {
+        const Clock::time_point start = Clock::now();
         refresh_solver();
+        Traits<System>::synchronize();
+        const Clock::time_point built = Clock::now();
         solver_->step_substep_in_place(raw<float>(cloth_.node_pos), raw<float>(cloth_.node_vel), frame, s);
+        Traits<System>::synchronize();
+        const Clock::time_point stepped = Clock::now();
         tear();
+        last_tear_.rebuild_ms += ms(start, built);
+        last_tear_.solver_ms += ms(built, stepped);
       }
     }
     frames_stepped_ = frame;
@@ -314,12 +328,20 @@ class ClothEngine final : public Cloth::Engine {
     CutStats stats;
     StageClock clock(false, stats.stage_ms.data());
     TearCut torn;
-    if (remesher_.cut_info_from_strain(cloth_, options_.tearing, cut_options, torn, clock) &&
-        remesher_.apply_cut_info(cloth_, cut_options, stats, clock)) {
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point start = Clock::now();
+    const bool over = remesher_.cut_info_from_strain(cloth_, options_.tearing, cut_options, torn, clock);
+    const Clock::time_point checked = Clock::now();
+    last_tear_.check_ms += std::chrono::duration<double, std::milli>(checked - start).count();
+    if (over && remesher_.apply_cut_info(cloth_, cut_options, stats, clock)) {
       solver_stale_ = true;
       reapply_box_pins();
       last_tear_.events += torn.faces;
       last_tear_.length += torn.length;
+    }
+    if (over) {
+      Traits<System>::synchronize();
+      last_tear_.apply_ms += std::chrono::duration<double, std::milli>(Clock::now() - checked).count();
     }
   }
 
