@@ -51,6 +51,14 @@ void print_scene_row(const SceneBenchRow& r, const SceneBenchRow* cpu) {
   std::printf("\n");
 }
 
+void print_tear_row(const TearBenchRow& r, const TearBenchRow* cpu) {
+  std::printf("%-7s  %8d  %8d  %-4s  %7d  %9.3f  %9.3f  %8.3f  %8.3f  %8.3f  %7.1f%%", r.resolution.c_str(),
+              r.faces_start, r.faces_end, to_string(r.device), r.tear_events, r.frame_ms_mean, r.solver_ms, r.check_ms,
+              r.apply_ms, r.rebuild_ms, 100 * r.tear_fraction);
+  if (cpu && r.frame_ms_mean > 0) std::printf("  %8.1fx", cpu->frame_ms_mean / r.frame_ms_mean);
+  std::printf("\n");
+}
+
 /// Runs one part size by size: `run(options of one size, device)` gives the size's row, printed
 /// (after the CPU's, with the ratio, when `with_cpu`) and returned with the CPU's in the JSON rows.
 template <class Run, class Print>
@@ -83,8 +91,8 @@ bool wanted(const BenchArgs& args, const std::string& part) {
 
 void run_bench(const BenchArgs& args) {
   for (const std::string& part : args.only)
-    if (part != "remesh" && part != "pd" && part != "scene")
-      throw Error(ErrorKind::usage, "--only " + part + ": expected remesh, pd or scene");
+    if (part != "remesh" && part != "pd" && part != "scene" && part != "tear")
+      throw Error(ErrorKind::usage, "--only " + part + ": expected remesh, pd, scene or tear");
   const Device device = select_device(args.device);
   const bool with_cpu = device == Device::cuda && !args.no_cpu;
   BenchOptions options;
@@ -169,6 +177,27 @@ void run_bench(const BenchArgs& args) {
     doc["scene"] = rows;
   }
 
+  if (wanted(args, "tear")) {
+    std::printf("\ntear: the pull scene (tear demo --scene pull), its own substeps and iterations, no output; "
+                "per-frame means in ms\n");
+    std::printf("%-7s  %8s  %8s  %-4s  %7s  %9s  %9s  %8s  %8s  %8s  %8s%s\n", "size", "faces", "at end", "dev", "torn",
+                "frame", "solver", "check", "apply", "rebuild", "tear/sol", with_cpu ? "  cpu/gpu" : "");
+    std::fflush(stdout);
+    const std::vector<TearBenchRow> gpu = run_tear_bench(options, device);
+    std::vector<TearBenchRow> cpu;
+    if (with_cpu) cpu = run_tear_bench(options, Device::cpu);
+    nlohmann::json rows = nlohmann::json::array();
+    for (std::size_t i = 0; i < gpu.size(); ++i) {
+      if (with_cpu) {
+        print_tear_row(cpu[i], nullptr);
+        rows.push_back(nlohmann::json::parse(to_json(cpu[i])));
+      }
+      print_tear_row(gpu[i], with_cpu ? &cpu[i] : nullptr);
+      rows.push_back(nlohmann::json::parse(to_json(gpu[i])));
+    }
+    doc["tear"] = rows;
+  }
+
   if (!args.json_path.empty()) write_file_atomically(args.json_path, doc.dump(2) + "\n");
 }
 }  // namespace
@@ -177,11 +206,14 @@ void add_bench_command(CLI::App& app) {
   auto args = std::make_shared<BenchArgs>();
   CLI::App* cmd = app.add_subcommand("bench", "Benchmark the remesher and the solver on generated sheets");
   cmd->footer(
-      "Three parts. remesh: each size is an irregular sheet (the paper's Table 1 sizes, then powers of two up "
+      "Four parts. remesh: each size is an irregular sheet (the paper's Table 1 sizes, then powers of two up "
       "to 4M faces) cut once by a zigzag of 16 segments, a fresh copy each run; stage columns come from "
       "separate runs with a device synchronisation after each stage. pd: one solver step of --iterations "
       "iterations on each size, with the traffic floor at the measured copy bandwidth. scene: the paper's "
-      "scene (tear demo) at its three resolutions with --iterations iterations per frame, in memory. Times "
+      "scene (tear demo) at its three resolutions with --iterations iterations per frame, in memory. tear: the "
+      "pull scene (tear demo --scene pull) at the same resolutions with its own solver settings, in memory: "
+      "the substeps, deciding where to tear, laying the cracks and rebuilding the solver's model, per frame, "
+      "and tearing's share of the solver's time. Times "
       "are medians in milliseconds; on the GPU the CPU backend of the same binary runs too, for the cpu/gpu "
       "ratio. No time is asserted.");
   add_device_option(*cmd, args->device);
@@ -192,7 +224,7 @@ void add_bench_command(CLI::App& app) {
       ->check(CLI::Range(1, 100000));
   cmd->add_option("--resolutions", args->resolutions, "Resolutions of the scene part: low, medium, high (comma separated)")
       ->delimiter(',');
-  cmd->add_option("--only", args->only, "Run only these parts: remesh, pd, scene (comma separated)")->delimiter(',');
+  cmd->add_option("--only", args->only, "Run only these parts: remesh, pd, scene, tear (comma separated)")->delimiter(',');
   cmd->add_option("--json", args->json_path, "Also write every number to this JSON file");
   cmd->add_flag("--no-cpu", args->no_cpu, "On the GPU, skip the CPU-backend comparison");
   cmd->callback([args] { run_bench(*args); });

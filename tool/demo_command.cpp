@@ -1,5 +1,6 @@
-// `tear demo`: the paper's scene (a sheet torn by six cuts, hanging from its top edge) with no input
-// files, one OBJ per frame (or any output `tear run` writes, a USD layer among them).
+// `tear demo`: the paper's scene (a sheet torn by six cuts, hanging from its top edge), or a sheet
+// torn by pulling or punching (`--scene pull|punch`), with no input files, one OBJ per frame (or
+// any output `tear run` writes, a USD layer among them).
 #include <cctype>
 #include <iomanip>
 #include <iostream>
@@ -22,6 +23,7 @@ namespace {
 
 struct DemoCommandOptions {
   std::string output_folder = "demo";
+  std::string scene = "paper";
   std::string resolution = "low";
   std::string device = "auto";
   std::string report_path;
@@ -48,8 +50,9 @@ void run_demo(const DemoCommandOptions& options) {
   const std::string pattern = output_pattern(options.output_folder);
   FramePattern(pattern).check(1);
   const DemoResolution resolution = parse_demo_resolution(options.resolution);
-  const Mesh sheet = make_demo_sheet(resolution);
-  const CutScript script = demo_script();
+  const DemoScene scene = parse_demo_scene(options.scene);
+  const Mesh sheet = make_demo_mesh(scene, resolution);
+  const CutScript script = demo_script(scene);
 
   RunOptions run;
   run.output_pattern = pattern;
@@ -87,16 +90,27 @@ void run_demo(const DemoCommandOptions& options) {
 void add_demo_command(CLI::App& app) {
   auto options = std::make_shared<DemoCommandOptions>();
   CLI::App* command =
-      app.add_subcommand("demo", "Run the paper's scene (a hanging sheet torn by six cuts) and write every frame");
+      app.add_subcommand("demo",
+                         "Run the paper's scene (a hanging sheet torn by six cuts), or a sheet torn by pulling or "
+                         "punching, and write every frame");
   command->footer(
       "Writes DIR/demo.0001.obj ... DIR/demo.0048.obj: two seconds at 24 fps, a cut every 8 frames from frame 4, "
-      "the top edge pinned, gravity along -y. An -o whose file name ends in .obj, .ply, .gltf, .glb, .usda or .usd "
+      "the top edge pinned, gravity along -y. --scene pull: a notched sheet whose left and right strips are "
+      "pulled apart until it tears in two; --scene punch: a horizontal sheet held at its four edges, torn open by "
+      "a rising sphere (both tear at a stretch of 1.3). An -o whose file name ends in .obj, .ply, .gltf, .glb, .usda "
+      "or .usd "
       "is an output pattern as for 'tear run' instead (out/demo.####.ply; shot.usda, one USD layer). Needs no "
       "input file. Exit codes: 0 ok, 1 usage error, 3 runtime failure.");
   command
       ->add_option("-o,--output", options->output_folder,
                    "Output folder (default: demo), or an output pattern such as out/demo.####.ply or shot.usda")
       ->type_name("DIR|PATTERN");
+  command
+      ->add_option("--scene", options->scene,
+                   "Scene: paper (the default), pull (a notched sheet pulled apart) or punch (a sphere through a "
+                   "held sheet)")
+      ->type_name("paper|pull|punch")
+      ->check(CLI::IsMember({"paper", "pull", "punch"}));
   command
       ->add_option("--resolution", options->resolution,
                    "Sheet resolution: low (2,822 faces, the default), "

@@ -57,14 +57,20 @@ std::string check_finite_positive(const std::string& text) {
 }
 
 /// `frame N/LAST: ...`: the frame's number and the last frame's, as the files are numbered.
-void print_frame(const FrameResult& frame, int last_frame) {
+void print_frame(const FrameResult& frame, const Cloth& cloth, int last_frame) {
   const CutStats& s = frame.stats;
   // Cuts that split nothing (they missed the cloth, or retraced a tear) are said to have done so.
   const bool changed = s.nodes_after != s.nodes_before || s.faces_after != s.faces_before;
   std::cout << "frame " << frame.output_frame << '/' << last_frame << ": " << frame.cut_count
-            << (frame.cut_count == 1 ? " cut" : " cuts") << (frame.cut_count > 0 && !changed ? " (changed nothing), " : ", ")
-            << s.nodes_before << " -> " << s.nodes_after << " nodes, "
-            << s.faces_before << " -> " << s.faces_after << " faces, " << frame.path << std::endl;
+            << (frame.cut_count == 1 ? " cut" : " cuts")
+            << (frame.cut_count > 0 && !changed ? " (changed nothing), " : ", ") << s.nodes_before << " -> "
+            << s.nodes_after << " nodes, " << s.faces_before << " -> " << s.faces_after << " faces, ";
+  // Tears happen while the frame is stepped, after its cuts: the mesh they leave is the frame's.
+  if (frame.tearing)
+    std::cout << frame.tear_events << (frame.tear_events == 1 ? " tear event" : " tear events") << " ("
+              << frame.torn_length << " m torn) -> " << cloth.node_count() << " nodes, " << cloth.face_count()
+              << " faces, ";
+  std::cout << frame.path << std::endl;
   if (!std::cout) throw runtime_error("cannot write to standard output");
 }
 
@@ -108,12 +114,12 @@ void run_run(const RunCommandOptions& options) {
                        ";weld=" + (options.read.weld ? "1" : "0");
   apply_farm_options(options.farm, run);
   FrameProgress progress(options.farm.progress, frame_count);
-  run.on_frame = [&](const FrameResult& frame, const Cloth&) {
+  run.on_frame = [&](const FrameResult& frame, const Cloth& cloth) {
     if (options.verbose) {
       progress.finish();
-      print_frame(frame, options.start_frame + frame_count - 1);
+      print_frame(frame, cloth, options.start_frame + frame_count - 1);
     }
-    progress.frame(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
+    progress.frame(frame.frame, "frames, " + std::to_string(cloth.face_count()) + " faces");
   };
   run_to_files(mesh, options.mesh_path, script, run);
   progress.finish();

@@ -76,12 +76,34 @@ struct SceneBenchRow {
   double remesh_ms = 0, simulation_ms = 0;     ///< totals over the frames
 };
 
+/// The pull scene (`demo_script(DemoScene::pull)` at one resolution, its own substeps and
+/// iterations) run in memory: what tearing costs against the solver. Per-frame means over the 48
+/// frames, milliseconds (`TearStats`); the median run of the repeats, by `frame_ms_mean`.
+struct TearBenchRow {
+  std::string resolution;
+  index_t faces_start = 0, faces_end = 0;
+  Device device = Device::cpu;
+  std::string device_name;
+  int frames = 0;
+  index_t tear_events = 0;     ///< faces torn over the run
+  double frame_ms_mean = 0;    ///< wall per frame, everything included
+  double solver_ms = 0;        ///< the substeps
+  double check_ms = 0;         ///< deciding where to tear, after every substep
+  double apply_ms = 0;         ///< laying the cracks (remesher) where a substep tore
+  double rebuild_ms = 0;       ///< the solver's model rebuilt after a tear
+  /// (check + apply + rebuild) / solver: tearing's share against the solver's time.
+  double tear_fraction = 0;
+};
+
 /// Copy bandwidth of `device`'s memory: bytes read plus bytes written per second by a copy of a
 /// 256 MiB buffer (larger than any cache), the best of 10.
 double measure_copy_bandwidth(Device device);
 
 std::vector<PdBenchRow> run_pd_bench(const BenchOptions& options, Device device, double copy_bandwidth);
 std::vector<SceneBenchRow> run_scene_bench(const BenchOptions& options, Device device);
+/// The pull scene at each of `options.resolutions` (`options.iterations` is not used: the scene
+/// keeps its own solver settings).
+std::vector<TearBenchRow> run_tear_bench(const BenchOptions& options, Device device);
 
 /// The zigzag cut of the benchmark: `segments` segments across the unit sheet, in rest-xy.
 CutLine bench_cut(int segments);
@@ -94,5 +116,6 @@ std::vector<BenchRow> run_remesh_bench(const BenchOptions& options, Device devic
 std::string to_json(const BenchRow& row);
 std::string to_json(const PdBenchRow& row);
 std::string to_json(const SceneBenchRow& row);
+std::string to_json(const TearBenchRow& row);
 
 }  // namespace tear

@@ -75,6 +75,19 @@ struct CutProvenance {
   std::vector<index_t> face_parent;        ///< [face_count] old face each new face lies in
 };
 
+/// What tearing did in one `Cloth::step` (docs/simulation.md, "Tearing").
+struct TearStats {
+  /// Tear events: a crack laid through one face (the faces torn, over the frame's substeps).
+  index_t events = 0;
+  /// Rest length of the new crack segments, metres (as laid, before the cut points snap).
+  double length = 0;
+  /// Wall time of the step's parts, milliseconds, each measured after waiting for the backend:
+  /// the substeps themselves, deciding where to tear (a pass over the faces and a read-back after
+  /// every substep), laying the cracks (the remesher's second half and the box pins applied again),
+  /// and rebuilding the solver's model for the torn cloth.
+  double solver_ms = 0, check_ms = 0, apply_ms = 0, rebuild_ms = 0;
+};
+
 struct SimulationOptions;
 
 /// A cloth mesh held on a backend with its state and identity (docs/identity.md): the remesher cuts
@@ -117,6 +130,9 @@ class Cloth {
   /// The same for frame `frame` (>= 1, as a script counts), whose substeps the keys of pins and
   /// colliders are evaluated at; later `step` calls go on from it.
   void step_frame(int frame);
+  /// What tearing did in the last step (zeros without `tearing` or before the first step). With
+  /// tearing the step checks the cloth after every substep, which waits for the backend there.
+  TearStats last_tear() const;
   /// False when a position or velocity is NaN or infinite (waits for the backend).
   bool state_is_finite() const;
 

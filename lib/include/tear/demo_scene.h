@@ -1,5 +1,6 @@
-// tear: the paper's scene (a square sheet torn by six crossing cuts), hanging from its top edge,
-// as `tear demo` runs it with no input files.
+// tear: the scenes `tear demo` runs with no input files: the paper's (a square sheet torn by six
+// crossing cuts, hanging from its top edge), a notched sheet pulled apart until it tears in two, and
+// a sheet held at its four edges that a rising sphere punches through.
 #pragma once
 
 #include <string>
@@ -37,5 +38,39 @@ Mesh make_demo_sheet(DemoResolution resolution);
 /// `simulation` block with the default solver settings, gravity along -y and the top edge (rest
 /// y = 1) pinned.
 CutScript demo_script();
+
+/// The scenes of `tear demo`: the paper's (the default), a notched sheet pulled apart by keyed pins
+/// until it tears in two, and a horizontal sheet held at its edges torn open by a rising sphere.
+enum class DemoScene { paper, pull, punch };
+
+/// "paper", "pull" or "punch".
+const char* to_string(DemoScene scene);
+
+/// Parses "paper", "pull" or "punch"; anything else is a usage `Error`.
+DemoScene parse_demo_scene(const std::string& text);
+
+/// The stretch limit (`simulation.tearing.stretch`) of the pull and punch scenes.
+inline constexpr double demo_tear_stretch = 1.3;
+/// The pull scene: each pinned strip moves this far along x (outwards) by the last frame, metres.
+inline constexpr double demo_pull_distance = 0.3;
+/// The punch scene: the sphere's radius, its centre at the start (under the sheet's middle) and
+/// how far it rises by the last frame, metres.
+inline constexpr double demo_punch_radius = 0.15;
+inline constexpr double demo_punch_start_y = -0.2;
+inline constexpr double demo_punch_rise = 0.8;
+
+/// The sheet of `scene` at `resolution`: `make_demo_sheet`'s for the paper and pull scenes; for
+/// punch the same sheet turned horizontal, [0, 1] x {0} x [0, 1] with its normal along +y
+/// (a node at (x, y, 0) moves to (x, 0, 1 - y)).
+Mesh make_demo_mesh(DemoScene scene, DemoResolution resolution);
+
+/// The script of `scene`, `demo_frames` frames at `demo_fps`: `demo_script()` for paper.
+/// pull (named "(demo scene: pull)"): a notch cut in frame 1 along x = 0.5 from the bottom border
+/// to y = 0.25 (rest-xy), the strips x <= 0.04 and x >= 0.96 pinned and moved apart by
+/// `demo_pull_distance` each, linearly over the frames, no gravity, tearing at `demo_tear_stretch`.
+/// punch (named "(demo scene: punch)"): no cuts, the four edges of the horizontal sheet pinned,
+/// gravity along -y, a sphere of `demo_punch_radius` under the sheet's middle rising by
+/// `demo_punch_rise` linearly over the frames, tearing at `demo_tear_stretch`.
+CutScript demo_script(DemoScene scene);
 
 }  // namespace tear

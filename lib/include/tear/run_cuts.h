@@ -36,6 +36,9 @@ struct FrameResult {
   bool simulated = false;    ///< the script has a `simulation` block: the frame was stepped after its cuts
   double remesh_ms = 0;      ///< wall time of the frame's cuts (0 without cuts)
   double simulation_ms = 0;  ///< wall time of the frame's step, solver rebuild (after a cut) included
+  bool tearing = false;      ///< the simulation tears (`simulation.tearing`): the two below count
+  index_t tear_events = 0;   ///< faces the frame's step tore (`TearStats::events`)
+  double torn_length = 0;    ///< rest length of the frame's new crack segments, metres
 };
 
 /// Called after each frame, with the cloth as the frame left it.

@@ -76,6 +76,18 @@ struct ChebyshevOptions {
   int delay = 10;      ///< plain (under-relaxed) Jacobi iterations before the acceleration starts, >= 0
 };
 
+/// The cloth tearing by itself where it is stretched too far (`simulation.tearing`).
+struct TearingOptions {
+  /// The largest principal stretch a face bears (current length / rest length along its most
+  /// stretched direction); beyond it the face tears across that direction. 0: no tearing; else > 1.
+  double stretch = 0;
+  /// Faces torn at most per substep (the most stretched first), >= 1.
+  int max_faces_per_step = 64;
+  /// Snap tolerance of the tear's cut points: the script's `snap` (as `default_snap` unless given).
+  double snap = 0.2;
+  bool enabled() const { return stretch > 0; }
+};
+
 /// The `simulation` block of a cut script, in physical units. Defaults suit a 1 m cloth.
 struct SimulationOptions {
   double fps = 24;       ///< frames per second; one `PdSolver::step` advances 1 / fps seconds
@@ -94,6 +106,7 @@ struct SimulationOptions {
   ChebyshevOptions chebyshev;
   std::vector<Pin> pins;
   std::vector<Collider> colliders;
+  TearingOptions tearing;
   /// The file the options came from, named in errors the solver raises (pins out of range).
   std::string source = "(simulation options)";
 
@@ -127,6 +140,10 @@ inline constexpr int max_pins = 255;
 inline constexpr double max_key_offset = max_collider_extent;
 /// The largest frame of a key: the most frames a script has (cut_script.h `max_frames`).
 inline constexpr int max_key_frame = 1000000;
+/// `tearing.stretch`: a face stretched to 1000 times its rest length has long torn.
+inline constexpr double max_tear_stretch = 1000;
+/// `tearing.max_faces_per_step`: a cap far above any mesh's faces per substep would be none.
+inline constexpr int max_tear_faces_per_step = 100000000;
 }  // namespace simulation_limits
 
 }  // namespace tear

@@ -181,6 +181,47 @@ std::vector<SceneBenchRow> run_scene_bench(const BenchOptions& options, Device d
   return rows;
 }
 
+std::vector<TearBenchRow> run_tear_bench(const BenchOptions& options, Device device) {
+  using Clock = std::chrono::steady_clock;
+  std::vector<TearBenchRow> rows;
+  for (DemoResolution resolution : options.resolutions) {
+    const CutScript script = demo_script(DemoScene::pull);
+    const Mesh mesh = make_demo_mesh(DemoScene::pull, resolution);
+    std::vector<TearBenchRow> runs;
+    for (int run = 0; run < options.warmup + options.repeats; ++run) {
+      TearBenchRow row;
+      row.resolution = to_string(resolution);
+      row.faces_start = mesh.face_count();
+      row.device = device;
+      row.device_name = device_name(device);
+      Cloth cloth(mesh, device);
+      synchronize(device);
+      const Clock::time_point start = Clock::now();
+      run_cuts(cloth, script, script.frames, [&](const FrameResult& frame, const Cloth& c) {
+        const TearStats torn = c.last_tear();
+        row.solver_ms += torn.solver_ms;
+        row.check_ms += torn.check_ms;
+        row.apply_ms += torn.apply_ms;
+        row.rebuild_ms += torn.rebuild_ms;
+        row.tear_events += torn.events;
+        row.frames = frame.frame;
+        row.faces_end = c.face_count();
+      });
+      const double total = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+      if (row.frames > 0) {
+        row.frame_ms_mean = total / row.frames;
+        for (double* ms : {&row.solver_ms, &row.check_ms, &row.apply_ms, &row.rebuild_ms}) *ms /= row.frames;
+      }
+      if (row.solver_ms > 0) row.tear_fraction = (row.check_ms + row.apply_ms + row.rebuild_ms) / row.solver_ms;
+      if (run >= options.warmup) runs.push_back(row);
+    }
+    std::sort(runs.begin(), runs.end(),
+              [](const TearBenchRow& a, const TearBenchRow& b) { return a.frame_ms_mean < b.frame_ms_mean; });
+    rows.push_back(runs[runs.size() / 2]);
+  }
+  return rows;
+}
+
 std::string to_json(const PdBenchRow& row) {
   return json_text({{"faces", row.faces},
           {"nodes", row.nodes},
@@ -203,6 +244,16 @@ std::string to_json(const SceneBenchRow& row) {
           {"iterations", row.iterations},       {"frame_ms_mean", row.frame_ms_mean},
           {"frame_ms_max", row.frame_ms_max},   {"remesh_ms", row.remesh_ms},
           {"simulation_ms", row.simulation_ms}});
+}
+
+std::string to_json(const TearBenchRow& row) {
+  return json_text({{"resolution", row.resolution},     {"faces_start", row.faces_start},
+                    {"faces_end", row.faces_end},       {"device", to_string(row.device)},
+                    {"device_name", row.device_name},   {"frames", row.frames},
+                    {"tear_events", row.tear_events},   {"frame_ms_mean", row.frame_ms_mean},
+                    {"solver_ms", row.solver_ms},       {"check_ms", row.check_ms},
+                    {"apply_ms", row.apply_ms},         {"rebuild_ms", row.rebuild_ms},
+                    {"tear_fraction", row.tear_fraction}});
 }
 
 std::string to_json(const BenchRow& row) {

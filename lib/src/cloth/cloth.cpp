@@ -108,6 +108,7 @@ void Cloth::step_frame(int frame) {
   engine_->step(frame);
 }
 bool Cloth::state_is_finite() const { return engine_->state_is_finite(); }
+TearStats Cloth::last_tear() const { return engine_->last_tear(); }
 std::string Cloth::save_state() const { return engine_->save_state(); }
 void Cloth::load_state(const std::string& state, const std::string& source) { engine_->load_state(state, source); }
 

@@ -22,6 +22,7 @@ class Cloth::Engine {
   /// Steps frame `frame` (1-based), or the one after the frame stepped last where `frame` < 1.
   virtual void step(int frame) = 0;
   virtual bool state_is_finite() const = 0;
+  virtual TearStats last_tear() const = 0;
   virtual Mesh mesh() const = 0;
   virtual Topology topology() const = 0;
   virtual std::vector<float> node_pos() const = 0;

@@ -1,6 +1,7 @@
 // tear::Cloth on either backend: one DeviceCloth, cut in place by the remesher and stepped in place
 // by the solver; nothing goes through the host between frames but what a frame writes.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstring>
 #include <string>
@@ -153,14 +154,35 @@ class ClothEngine final : public Cloth::Engine {
   void step(int frame) override {
     if (!simulated_) throw Error(ErrorKind::usage, "Cloth::step: no simulation (call Cloth::simulate first)");
     if (frame < 1) frame = frames_stepped_ + 1;
-    if (!solver_ || solver_stale_) {
-      solver_.reset();  // the old model's memory first, so the two never coexist
-      solver_ = make_pd_solver<System>(cloth_, options_);
-      solver_stale_ = false;
+    last_tear_ = TearStats{};
+    if (!options_.tearing.enabled()) {
+      refresh_solver();
+      solver_->step_in_place(raw<float>(cloth_.node_pos), raw<float>(cloth_.node_vel), frame);
+    } else {
+      // Torn between substeps: the next substep steps the torn cloth with its new model. The check
+      // after each substep reads back a count, so waiting for the backend to time the parts costs
+      // nothing more.
+      using Clock = std::chrono::steady_clock;
+      const auto ms = [](Clock::time_point a, Clock::time_point b) {
+        return std::chrono::duration<double, std::milli>(b - a).count();
+      };
+      for (int s = 0; s < options_.substeps; ++s) {
+        const Clock::time_point start = Clock::now();
+        refresh_solver();
+        Traits<System>::synchronize();
+        const Clock::time_point built = Clock::now();
+        solver_->step_substep_in_place(raw<float>(cloth_.node_pos), raw<float>(cloth_.node_vel), frame, s);
+        Traits<System>::synchronize();
+        const Clock::time_point stepped = Clock::now();
+        tear();
+        last_tear_.rebuild_ms += ms(start, built);
+        last_tear_.solver_ms += ms(built, stepped);
+      }
     }
-    solver_->step_in_place(raw<float>(cloth_.node_pos), raw<float>(cloth_.node_vel), frame);
     frames_stepped_ = frame;
   }
+
+  TearStats last_tear() const override { return last_tear_; }
 
   bool state_is_finite() const override {
     const auto policy = Traits<System>::policy();
@@ -292,6 +314,37 @@ class ClothEngine final : public Cloth::Engine {
     assign_from_host(v, host);
   }
 
+  void refresh_solver() {
+    if (solver_ && !solver_stale_) return;
+    solver_.reset();  // the old model's memory first, so the two never coexist
+    solver_ = make_pd_solver<System>(cloth_, options_);
+    solver_stale_ = false;
+  }
+
+  /// Tears the faces stretched beyond the limit, as a cut would split them (docs/simulation.md).
+  void tear() {
+    CutOptions cut_options;
+    cut_options.snap = options_.tearing.snap;
+    CutStats stats;
+    StageClock clock(false, stats.stage_ms.data());
+    TearCut torn;
+    using Clock = std::chrono::steady_clock;
+    const Clock::time_point start = Clock::now();
+    const bool over = remesher_.cut_info_from_strain(cloth_, options_.tearing, cut_options, torn, clock);
+    const Clock::time_point checked = Clock::now();
+    last_tear_.check_ms += std::chrono::duration<double, std::milli>(checked - start).count();
+    if (over && remesher_.apply_cut_info(cloth_, cut_options, stats, clock)) {
+      solver_stale_ = true;
+      reapply_box_pins();
+      last_tear_.events += torn.faces;
+      last_tear_.length += torn.length;
+    }
+    if (over) {
+      Traits<System>::synchronize();
+      last_tear_.apply_ms += std::chrono::duration<double, std::milli>(Clock::now() - checked).count();
+    }
+  }
+
   void reapply_box_pins() {
     if (pin_boxes_.empty()) return;
     const thrust::counting_iterator<index_t> zero(0);
@@ -307,7 +360,8 @@ class ClothEngine final : public Cloth::Engine {
   vec<double> pin_boxes_;                      // [box * 7] of the simulation's box pins (pin_boxes)
   int frames_stepped_ = 0;                     // the frame stepped last, 0 before the first
   std::unique_ptr<PdSolver::Impl> solver_;     // the model of the mesh it was built for
-  bool solver_stale_ = false;                  // a cut changed the mesh since
+  bool solver_stale_ = false;                  // a cut or tear changed the mesh since
+  TearStats last_tear_;                        // what the last step tore
 };
 
 template <class System>

@@ -2,10 +2,13 @@
 //
 //   cut_info_from_paths  §2.1  where scripted polylines, blades and planes cross the mesh: cut
 //                              points on edges and in faces, 6-bit face / 2-bit edge cut info
+//   cut_info_from_strain §2.1  the same for the cracks of faces stretched too far (tearing)
 //   apply_cut_info       §2.2–2.4  counts → scans → writes of new nodes and faces → node mapping →
 //                              carried attributes → topology
 //
-// The second half reads only `CutInfo`, so any source of cut info (scripted paths today) feeds it.
+// The second half reads only `CutInfo`, so any source of cut info (scripted paths, cracks) feeds it.
+// Both sources write the same crossings (per-face half-edge hits and the pairs of places a line
+// joins) and share the rest of §2.1: snapping, face and edge cut info.
 // Each stage is a count, a scan or a write over one kind of element. Scratch arrays live with the
 // remesher and only grow, so once they reach capacity a cut allocates nothing for its own arrays.
 // Only for device code (the .inl files).
@@ -18,11 +21,13 @@
 #include <utility>
 #include <vector>
 
+#include <thrust/copy.h>
 #include <thrust/count.h>
 #include <thrust/fill.h>
 #include <thrust/for_each.h>
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/scan.h>
+#include <thrust/sort.h>
 #include <thrust/transform_reduce.h>
 
 #include "backend/backend.h"
@@ -35,6 +40,8 @@
 #include "split_table.h"
 #include "tear/cloth.h"
 #include "tear/error.h"
+#include "tear/simulation_options.h"
+#include "tear_cracks.h"
 #include "topology/device_topology.h"
 #include "write_new_faces.h"
 #include "write_new_nodes.h"
@@ -74,6 +81,13 @@ struct CutInfo {
   vec<float> face_point_bary;      ///< [face_count * 3] face point, where the face has one
 };
 
+/// What `cut_info_from_strain` tears: the faces it cracks and the cracks' rest length (metres,
+/// before snapping: the segments through the chosen faces and on into the faces across them).
+struct TearCut {
+  index_t faces = 0;
+  double length = 0;
+};
+
 template <class System>
 class Remesher {
   template <class T>
@@ -85,6 +99,12 @@ class Remesher {
   /// §2.1: cut info of `cuts` on `cloth`. Returns false when no cut path is usable (nothing to do).
   bool cut_info_from_paths(const DeviceCloth<System>& cloth, const std::vector<CutLine>& cuts,
                            const CutOptions& options, StageClock& clock);
+
+  /// §2.1 for tearing: cracks through the faces stretched beyond `tearing.stretch`, chosen and laid
+  /// as `kernels/tear_cracks.h` says. Returns false when no face is over the limit (one pass and
+  /// one read-back of a count).
+  bool cut_info_from_strain(const DeviceCloth<System>& cloth, const TearingOptions& tearing, const CutOptions& options,
+                            TearCut& torn, StageClock& clock);
 
   /// §2.2–2.4: applies the cut info to `cloth` in place. Returns false when it splits nothing (the
   /// cloth is left as it was).
@@ -108,6 +128,8 @@ class Remesher {
     thrust::for_each(Traits<System>::policy(), zero, zero + count, f);
   }
   void upload_cuts(const std::vector<CutLine>& cuts);
+  /// §2.1 after the crossings: snapped edge points, face and edge cut info.
+  void resolve_cut_info(const DeviceCloth<System>& cloth, const CutOptions& options, StageClock& clock);
   kernels::SectorMesh sector_mesh(const DeviceCloth<System>& cloth) const;
   /// With `CutOptions::check_writes`: fills `v` with a value no writer writes, before its writer.
   template <class T>
@@ -141,6 +163,11 @@ class Remesher {
   vec<std::uint8_t> face_along_;
   vec<std::int8_t> face_snap_edge_;
   CutInfo<System> info_;
+
+  // Tearing: each face's stretch, the faces chosen and their cracks' lengths.
+  vec<double> face_stretch_, crack_length_;
+  vec<std::uint8_t> face_chosen_;
+  vec<index_t> tear_faces_;
 
   // §2.2, §2.3 counts and offsets: the nodes' extra copies, then edge points', then face points',
   // in one array; new faces per face.
@@ -211,7 +238,7 @@ bool Remesher<System>::cut_info_from_paths(const DeviceCloth<System>& cloth, con
                                            const CutOptions& options, StageClock& clock) {
   using namespace kernels;
   const auto& topo = cloth.topo;
-  const index_t f_count = topo.face_count, e_count = topo.edge_count;
+  const index_t f_count = topo.face_count;
   upload_cuts(cuts);
   if (cut_paths_.empty() || f_count == 0) return false;
   const bool has_uv = !cloth.corner_uv.empty();
@@ -227,6 +254,76 @@ bool Remesher<System>::cut_info_from_paths(const DeviceCloth<System>& cloth, con
                                          raw<double>(cut_point_y_), raw<double>(half_hit_sum_),
                                          raw<index_t>(half_hit_count_), raw<std::uint16_t>(face_pairs_)});
   clock.mark<System>(CutStage::intersection);
+  resolve_cut_info(cloth, options, clock);
+  return true;
+}
+
+template <class System>
+bool Remesher<System>::cut_info_from_strain(const DeviceCloth<System>& cloth, const TearingOptions& tearing,
+                                            const CutOptions& options, TearCut& torn, StageClock& clock) {
+  using namespace kernels;
+  torn = TearCut{};
+  const auto& topo = cloth.topo;
+  const index_t f_count = topo.face_count;
+  if (!tearing.enabled() || f_count == 0) return false;
+  const auto policy = Traits<System>::policy(alloc_);
+  const thrust::counting_iterator<index_t> zero(0);
+  const index_t over =
+      thrust::transform_reduce(policy, zero, zero + f_count,
+                               count_over_stretched{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
+                                                    raw<float>(cloth.node_pos), tearing.stretch},
+                               index_t(0), thrust::plus<index_t>());
+  if (over == 0) return false;
+
+  // The faces that tear: over the limit and first among the faces sharing a node with them, at
+  // most `max_faces_per_step` of them (by rank). No order depends on the threads: the choice is a
+  // comparison of each face with its neighbours, the compaction is stable and the rank a total order.
+  resize_with_headroom(face_stretch_, f_count);
+  for_each_index(f_count, write_face_stretch{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
+                                             raw<float>(cloth.node_pos), raw<double>(face_stretch_)});
+  resize_with_headroom(face_chosen_, f_count);
+  for_each_index(f_count, choose_tearing_faces{raw<index_t>(cloth.face_nodes), raw<index_t>(topo.node_face_offset),
+                                               raw<index_t>(topo.node_faces), raw<double>(face_stretch_),
+                                               tearing.stretch, raw<std::uint8_t>(face_chosen_)});
+  resize_with_headroom(tear_faces_, f_count);
+  const auto chosen_end =
+      thrust::copy_if(policy, zero, zero + f_count, tear_faces_.begin(), is_chosen{raw<std::uint8_t>(face_chosen_)});
+  index_t count = static_cast<index_t>(chosen_end - tear_faces_.begin());
+  if (count > tearing.max_faces_per_step) {
+    thrust::sort(policy, tear_faces_.begin(), tear_faces_.begin() + count, by_tear_rank{raw<double>(face_stretch_)});
+    count = tearing.max_faces_per_step;
+  }
+  if (count == 0) return false;
+
+  // The cracks as crossings, as `intersect_cuts` writes a cut's.
+  resize_with_headroom(half_hit_sum_, 3 * std::size_t(f_count));
+  resize_with_headroom(half_hit_count_, 3 * std::size_t(f_count));
+  resize_with_headroom(face_pairs_, f_count);
+  thrust::fill(policy, half_hit_sum_.begin(), half_hit_sum_.end(), 0.0);
+  thrust::fill(policy, half_hit_count_.begin(), half_hit_count_.end(), index_t(0));
+  thrust::fill(policy, face_pairs_.begin(), face_pairs_.end(), std::uint16_t(0));
+  resize_with_headroom(crack_length_, count);
+  for_each_index(
+      count,
+      write_cracks{raw<index_t>(tear_faces_), raw<index_t>(cloth.face_nodes), raw<index_t>(topo.face_edges),
+                   raw<index_t>(topo.edge_faces), raw<index_t>(topo.node_face_offset), raw<index_t>(topo.node_faces),
+                   raw<float>(cloth.node_rest), raw<float>(cloth.node_pos), raw<double>(half_hit_sum_),
+                   raw<index_t>(half_hit_count_), raw<std::uint16_t>(face_pairs_), raw<double>(crack_length_)});
+  clock.mark<System>(CutStage::intersection);
+  // Summed on the host in rank order: the same sum every run.
+  const std::vector<double> lengths = to_host<double>(crack_length_);
+  torn.faces = count;
+  for (const double l : lengths) torn.length += l;
+  resolve_cut_info(cloth, options, clock);
+  return true;
+}
+
+template <class System>
+void Remesher<System>::resolve_cut_info(const DeviceCloth<System>& cloth, const CutOptions& options,
+                                        StageClock& clock) {
+  using namespace kernels;
+  const auto& topo = cloth.topo;
+  const index_t f_count = topo.face_count, e_count = topo.edge_count;
   resize_with_headroom(info_.edge_point, e_count);
   resize_with_headroom(info_.edge_point_t, e_count);
   for_each_index(e_count, snap_edge_points{raw<index_t>(topo.edge_faces), raw<index_t>(topo.face_edges),
@@ -269,7 +366,6 @@ bool Remesher<System>::cut_info_from_paths(const DeviceCloth<System>& cloth, con
                                                   raw<std::uint8_t>(info_.edge_point)});
   for_each_index(f_count, refresh_face_cut_info{face_info});
   clock.mark<System>(CutStage::cut_info);
-  return true;
 }
 
 template <class System>

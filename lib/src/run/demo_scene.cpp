@@ -1,6 +1,7 @@
 #include "tear/demo_scene.h"
 
 #include <array>
+#include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -73,6 +74,94 @@ CutScript demo_script() {
       {"simulation", {{"fps", demo_fps}, {"gravity", {0.0, -9.81, 0.0}}, {"pins", nlohmann::json::array({top_edge})}}}};
   // Parsed like a file, so the demo's script passes every check a user's would.
   return parse_cut_script(script.dump(), "(demo scene)");
+}
+
+const char* to_string(DemoScene scene) {
+  switch (scene) {
+    case DemoScene::paper:
+      return "paper";
+    case DemoScene::pull:
+      return "pull";
+    case DemoScene::punch:
+      return "punch";
+  }
+  return "?";
+}
+
+DemoScene parse_demo_scene(const std::string& text) {
+  for (DemoScene s : {DemoScene::paper, DemoScene::pull, DemoScene::punch})
+    if (text == to_string(s)) return s;
+  throw Error(ErrorKind::usage, "--scene: expected paper, pull or punch, got '" + text + "'");
+}
+
+Mesh make_demo_mesh(DemoScene scene, DemoResolution resolution) {
+  Mesh sheet = make_demo_sheet(resolution);
+  if (scene != DemoScene::punch) return sheet;
+  // Turned about x so that the normal +z becomes +y: (x, y, z) -> (x, z, 1 - y) (a rotation, so
+  // the faces keep their orientation). The sheet's z is 0, so its nodes land on y = 0 and its
+  // border rows on z = 0 and z = 1 exactly.
+  for (std::size_t i = 0; i < sheet.node_pos.size(); i += 3) {
+    const float y = sheet.node_pos[i + 1], z = sheet.node_pos[i + 2];
+    sheet.node_pos[i + 1] = z;
+    sheet.node_pos[i + 2] = 1.0f - y;
+  }
+  for (std::size_t i = 0; i < sheet.corner_normal.size(); i += 3) {
+    const float y = sheet.corner_normal[i + 1], z = sheet.corner_normal[i + 2];
+    sheet.corner_normal[i + 1] = z;
+    sheet.corner_normal[i + 2] = -y;
+  }
+  return sheet;
+}
+
+namespace {
+
+nlohmann::json box(std::array<double, 3> min, std::array<double, 3> max) {
+  return {{"box", {{"min", min}, {"max", max}}}};
+}
+
+/// Keys moving from no offset at the start to `offset` at the end of the last frame.
+nlohmann::json linear_keys(std::array<double, 3> offset) {
+  return nlohmann::json::array(
+      {{{"frame", 0}, {"offset", {0.0, 0.0, 0.0}}}, {{"frame", demo_frames}, {"offset", offset}}});
+}
+
+}  // namespace
+
+CutScript demo_script(DemoScene scene) {
+  if (scene == DemoScene::paper) return demo_script();
+  const nlohmann::json tearing = {{"stretch", demo_tear_stretch}};
+  nlohmann::json script = {{"version", 1}, {"frames", demo_frames}};
+  if (scene == DemoScene::pull) {
+    // The notch: from below the bottom border up to a quarter of the sheet, so the tear starts
+    // at its tip and runs up across the middle.
+    script["cuts"] =
+        nlohmann::json::array({{{"frame", 1}, {"space", "rest-xy"}, {"polyline", {{0.5, -0.1}, {0.5, 0.25}}}}});
+    nlohmann::json left = box({-1.0, -1.0, -1.0}, {0.04, 2.0, 1.0});
+    left["keys"] = linear_keys({-demo_pull_distance, 0.0, 0.0});
+    nlohmann::json right = box({0.96, -1.0, -1.0}, {2.0, 2.0, 1.0});
+    right["keys"] = linear_keys({demo_pull_distance, 0.0, 0.0});
+    script["simulation"] = {{"fps", demo_fps},
+                            {"gravity", {0.0, 0.0, 0.0}},
+                            {"pins", nlohmann::json::array({left, right})},
+                            {"tearing", tearing}};
+  } else {
+    // The four border rows of the horizontal sheet lie exactly on x = 0, x = 1, z = 0 and z = 1;
+    // the next rows are more than 5 mm inside at the high resolution.
+    const nlohmann::json pins = nlohmann::json::array({
+        box({-1.0, -1.0, -1.0}, {0.001, 1.0, 2.0}),
+        box({0.999, -1.0, -1.0}, {2.0, 1.0, 2.0}),
+        box({-1.0, -1.0, -1.0}, {2.0, 1.0, 0.001}),
+        box({-1.0, -1.0, 0.999}, {2.0, 1.0, 2.0}),
+    });
+    nlohmann::json sphere = {{"sphere", {{"center", {0.5, demo_punch_start_y, 0.5}}, {"radius", demo_punch_radius}}}};
+    sphere["keys"] = linear_keys({0.0, demo_punch_rise, 0.0});
+    script["simulation"] = {{"fps", demo_fps},
+                            {"gravity", {0.0, -9.81, 0.0}},
+                            {"pins", pins},
+                            {"colliders", nlohmann::json::array({sphere})},
+                            {"tearing", tearing}};
+  }
+  return parse_cut_script(script.dump(), std::string("(demo scene: ") + to_string(scene) + ")");
 }
 
 }  // namespace tear

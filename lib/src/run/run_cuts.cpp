@@ -91,6 +91,13 @@ nlohmann::json frame_report(const FrameResult& frame, const Cloth& cloth) {
           {"min_angle_deg", nullptr}};
 }
 
+/// The frame's tearing, in the report of a simulation that tears.
+void add_tearing(nlohmann::json& entry, const FrameResult& frame) {
+  if (!frame.tearing) return;
+  entry["tear_events"] = frame.tear_events;
+  entry["torn_length_m"] = frame.torn_length;
+}
+
 }  // namespace
 
 std::vector<float> area_weighted_corner_normals(const Mesh& mesh) {
@@ -180,6 +187,10 @@ void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const Fram
                             "or raise the substeps or iterations");
       result.simulated = true;
       result.simulation_ms = ms_since(start);
+      result.tearing = script.simulation && script.simulation->tearing.enabled();
+      const TearStats torn = cloth.last_tear();
+      result.tear_events = torn.events;
+      result.torn_length = torn.length;
     }
     if (on_frame) on_frame(result, cloth);
   }
@@ -231,6 +242,7 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     sink->write(written.output_frame, out);
     if (!options.report_path.empty()) {
       nlohmann::json entry = frame_report(written, cut_cloth);
+      add_tearing(entry, written);
       // The remesher's quality is a property of the rest shape; without simulation it is also the
       // written shape.
       const double min_angle = min_face_angle_deg(out.face_nodes, cut_cloth.node_rest());

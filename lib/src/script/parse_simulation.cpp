@@ -131,6 +131,20 @@ Collider parse_collider(const Reader& reader, const json& value, const std::stri
   return collider;
 }
 
+/// `tearing`: {"stretch": S, "max_faces_per_step": N}, S required.
+TearingOptions parse_tearing(const Reader& reader, const json& value, const std::string& path) {
+  reader.expect_object(value, path, {"stretch", "max_faces_per_step"});
+  TearingOptions tearing;
+  const std::string stretch_range = "a number in (1, " + shown(limits::max_tear_stretch) + "] (stretch ratio)";
+  tearing.stretch = reader.number(reader.member(value, path, "stretch", stretch_range), child_path(path, "stretch"),
+                                  stretch_range, [](double x) { return x > 1 && x <= limits::max_tear_stretch; });
+  if (value.contains("max_faces_per_step"))
+    tearing.max_faces_per_step = static_cast<int>(reader.integer(
+        value["max_faces_per_step"], child_path(path, "max_faces_per_step"), 1, limits::max_tear_faces_per_step,
+        "an integer in 1.." + std::to_string(limits::max_tear_faces_per_step) + " (faces per substep)"));
+  return tearing;
+}
+
 /// A number in [lo, hi], "expected a number in [lo, hi] (unit), got ...".
 double number_in(const Reader& reader, const json& value, const std::string& path, double lo, double hi,
                  const std::string& unit) {
@@ -148,7 +162,7 @@ SimulationOptions parse_simulation(const json& block, const std::string& script_
   const std::string root = "simulation";
   reader.expect_object(block, root,
                        {"fps", "substeps", "iterations", "gravity", "damping", "density", "stretch_stiffness",
-                        "bend_stiffness", "chebyshev", "pins", "colliders"});
+                        "bend_stiffness", "chebyshev", "pins", "colliders", "tearing"});
   if (block.contains("fps"))
     options.fps = number_in(reader, block["fps"], child_path(root, "fps"), limits::min_fps, limits::max_fps,
                             "frames per second");
@@ -216,6 +230,7 @@ SimulationOptions parse_simulation(const json& block, const std::string& script_
     for (std::size_t i = 0; i < colliders.size(); ++i)
       options.colliders.push_back(parse_collider(reader, colliders[i], child_path(path, i)));
   }
+  if (block.contains("tearing")) options.tearing = parse_tearing(reader, block["tearing"], child_path(root, "tearing"));
   return options;
 }
 

@@ -23,6 +23,9 @@ class PdSolver::Impl {
   /// Steps frame `frame` of a state held elsewhere in this backend's memory (a cloth's),
   /// [node_count * 3] each, in place: the solver's own state is not used.
   virtual void step_in_place(float* node_pos, float* node_vel, int frame) = 0;
+  /// The same for substep `s` (0-based) of frame `frame` alone: a cloth that tears checks itself
+  /// between substeps (and a torn cloth steps the frame's next substep with a new model).
+  virtual void step_substep_in_place(float* node_pos, float* node_vel, int frame, int s) = 0;
   virtual void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) = 0;
   virtual std::vector<float> node_pos() const = 0;
   virtual std::vector<float> node_vel() const = 0;

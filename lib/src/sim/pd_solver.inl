@@ -217,6 +217,7 @@ class PdSolverOn final : public PdSolver::Impl {
     bind_state(node_pos, node_vel);
     step_frame(frame);
   }
+  void step_substep_in_place(float* node_pos, float* node_vel, int frame, int s) override;
 
   void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) override {
     bind_state(raw<float>(node_pos_), raw<float>(node_vel_));
@@ -256,6 +257,10 @@ class PdSolverOn final : public PdSolver::Impl {
   bool step_persistent(int count);
   /// Runs `count` substeps the way `launch_mode_` says.
   void run_substeps(int count);
+  /// Keyed runs: uploads the pin and collider records of every substep of frame `frame` at once
+  /// (once per frame), then copies substep `s`'s on the backend to where the substep's launches
+  /// (a recorded graph, the persistent kernel) always read them.
+  void select_substep_motion(int frame, int s);
 
   SimulationOptions options_;
   index_t node_count_ = 0;
@@ -276,6 +281,7 @@ class PdSolverOn final : public PdSolver::Impl {
   vec<kernels::PdCollider> colliders_, frame_colliders_;
   vec<float> node_rest_;  // [node_count * 3], kept only for keyed pins
   int last_frame_ = 0;
+  int uploaded_frame_ = -1;  // the frame whose records frame_pin_motion_ and frame_colliders_ hold
   // Scratch of a step.
   vec<float> node_pred_, constraint_force_;
   vec<float> node_iter_[3];
@@ -345,31 +351,45 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
 }
 
 template <class System>
+void PdSolverOn<System>::select_substep_motion(int frame, int s) {
+  if (uploaded_frame_ != frame) {
+    std::vector<kernels::PdPinMotion> pins;
+    std::vector<kernels::PdCollider> colliders;
+    for (int t = 0; t < options_.substeps; ++t) substep_motion(frame, t, pins, colliders);
+    // (Thrust's copy of an empty range binds a reference to its destination's first element, which
+    // an empty vector does not have: keyed colliders with no pin, keyed pins with no collider.)
+    if (!pins.empty()) thrust::copy(pins.begin(), pins.end(), frame_pin_motion_.begin());
+    if (!colliders.empty()) thrust::copy(colliders.begin(), colliders.end(), frame_colliders_.begin());
+    uploaded_frame_ = frame;
+  }
+  const auto policy = Traits<System>::policy();
+  const std::ptrdiff_t pin_count = static_cast<std::ptrdiff_t>(pin_motion_.size());
+  const std::ptrdiff_t collider_count = static_cast<std::ptrdiff_t>(colliders_.size());
+  const auto pin_first = frame_pin_motion_.begin() + s * pin_count;
+  const auto collider_first = frame_colliders_.begin() + s * collider_count;
+  if (pin_count > 0) thrust::copy(policy, pin_first, pin_first + pin_count, pin_motion_.begin());
+  if (collider_count > 0) thrust::copy(policy, collider_first, collider_first + collider_count, colliders_.begin());
+}
+
+template <class System>
 void PdSolverOn<System>::step_frame(int frame) {
   last_frame_ = frame;
   if (!keyed_) {
     run_substeps(options_.substeps);
     return;
   }
-  // The frame's records uploaded at once, then each substep's copied on the backend to where the
-  // substep's launches (a recorded graph, the persistent kernel) always read them.
-  std::vector<kernels::PdPinMotion> pins;
-  std::vector<kernels::PdCollider> colliders;
-  for (int s = 0; s < options_.substeps; ++s) substep_motion(frame, s, pins, colliders);
-  // (Thrust's copy of an empty range binds a reference to its destination's first element, which
-  // an empty vector does not have: keyed colliders with no pin, keyed pins with no collider.)
-  if (!pins.empty()) thrust::copy(pins.begin(), pins.end(), frame_pin_motion_.begin());
-  if (!colliders.empty()) thrust::copy(colliders.begin(), colliders.end(), frame_colliders_.begin());
-  const auto policy = Traits<System>::policy();
-  const std::ptrdiff_t pin_count = static_cast<std::ptrdiff_t>(pin_motion_.size());
-  const std::ptrdiff_t collider_count = static_cast<std::ptrdiff_t>(colliders_.size());
   for (int s = 0; s < options_.substeps; ++s) {
-    const auto pin_first = frame_pin_motion_.begin() + s * pin_count;
-    const auto collider_first = frame_colliders_.begin() + s * collider_count;
-    if (pin_count > 0) thrust::copy(policy, pin_first, pin_first + pin_count, pin_motion_.begin());
-    if (collider_count > 0) thrust::copy(policy, collider_first, collider_first + collider_count, colliders_.begin());
+    select_substep_motion(frame, s);
     run_substeps(1);
   }
+}
+
+template <class System>
+void PdSolverOn<System>::step_substep_in_place(float* node_pos, float* node_vel, int frame, int s) {
+  bind_state(node_pos, node_vel);
+  last_frame_ = frame;
+  if (keyed_) select_substep_motion(frame, s);
+  run_substeps(1);
 }
 
 template <class System>
