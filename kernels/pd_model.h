@@ -149,9 +149,13 @@ struct make_pd_constraints {
   }
 };
 
-/// True for a constraint that acts (its weight is positive).
-struct is_positive {
-  TEAR_HD bool operator()(float weight) const { return weight > 0.0f; }
+/// The constraints of edge `e` in use: its spring and its hinge, each where its weight is positive.
+struct count_edge_constraints {
+  const float* spring_weight;  // [edge_count]
+  const float* hinge_weight;   // [edge_count]
+  TEAR_HD index_t operator()(index_t e) const {
+    return index_t(spring_weight[e] > 0.0f) + index_t(hinge_weight[e] > 0.0f);
+  }
 };
 
 /// The used constraint slots keyed by their node, valued by themselves: node→constraint slots, in

@@ -168,13 +168,28 @@ struct PoolAllocator : thrust::cuda::allocator<T> {
   }
 };
 
+/// Thrust's temporary storage from `PoolAllocator` (an allocator of bytes, as Thrust's execution
+/// policies take one).
+struct PoolBytes {
+  using value_type = char;
+  char* allocate(std::ptrdiff_t bytes) {
+    return thrust::raw_pointer_cast(PoolAllocator<char>().allocate(static_cast<std::size_t>(bytes)));
+  }
+  void deallocate(char* p, std::size_t) noexcept { PoolAllocator<char>().deallocate(thrust::cuda::pointer<char>(p), 0); }
+};
+
 template <>
 struct Traits<Cuda> {
   template <class T>
   using vector = thrust::cuda::vector<T, CountingAllocator<T, PoolAllocator<T>, Device::cuda>>;
   // Stages queue on the default stream without waiting; reading a result back (a count, a total)
-  // is what synchronises, so a cut waits only where it needs a number on the host.
-  static auto policy() { return thrust::cuda::par_nosync; }
+  // is what synchronises, so a cut waits only where it needs a number on the host. Thrust's own
+  // temporary storage (reductions, scans) comes from the same pool as the vectors, in stream order:
+  // its default, cudaMalloc and cudaFree, would wait for the whole device around every such call.
+  static auto policy() {
+    static PoolBytes bytes;
+    return thrust::cuda::par_nosync(bytes);
+  }
   /// Thrust's temporary storage (sort and scan buffers) taken from `alloc`, which keeps its blocks:
   /// cudaMalloc and cudaFree synchronise the device, and a cut would otherwise call them per stage.
   template <class Allocator>

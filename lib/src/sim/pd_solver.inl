@@ -7,9 +7,9 @@
 #include <type_traits>
 
 #include <thrust/copy.h>
-#include <thrust/count.h>
 #include <thrust/for_each.h>
 #include <thrust/iterator/counting_iterator.h>
+#include <thrust/transform_reduce.h>
 
 #include "backend/backend.h"
 #include "build_topology.h"
@@ -330,9 +330,9 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
                                        options_.stretch_stiffness, options_.bend_stiffness, raw<index_t>(spring_nodes_),
                                        raw<float>(spring_weight_), raw<float>(spring_rest_), raw<index_t>(hinge_nodes_),
                                        raw<float>(hinge_coef_), raw<float>(hinge_weight_), raw<float>(hinge_rest_)});
-  active_constraint_count_ = static_cast<index_t>(
-      thrust::count_if(policy, spring_weight_.begin(), spring_weight_.end(), is_positive{}) +
-      thrust::count_if(policy, hinge_weight_.begin(), hinge_weight_.end(), is_positive{}));
+  active_constraint_count_ = thrust::transform_reduce(
+      policy, zero, zero + edge_count, count_edge_constraints{raw<float>(spring_weight_), raw<float>(hinge_weight_)},
+      index_t(0), thrust::plus<index_t>());
 
   // Node→constraint CSR: the used slots counting-sorted by node, so a node's constraints come in
   // index order, the fixed order its Jacobi update sums them in.
