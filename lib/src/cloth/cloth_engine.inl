@@ -316,8 +316,10 @@ class ClothEngine final : public Cloth::Engine {
 
   void refresh_solver() {
     if (solver_ && !solver_stale_) return;
-    solver_.reset();  // the old model's memory first, so the two never coexist
-    solver_ = make_pd_solver<System>(cloth_, options_);
+    if (solver_)
+      rebuild_pd_solver<System>(*solver_, cloth_);  // in the old model's memory, grown where needed
+    else
+      solver_ = make_pd_solver<System>(cloth_, options_);
     solver_stale_ = false;
   }
 

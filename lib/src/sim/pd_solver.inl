@@ -3,6 +3,8 @@
 // kernel launches with no read-back, so a CUDA step queues without waiting.
 #include <cmath>
 #include <cstdlib>
+#include <map>
+#include <mutex>
 #include <string>
 #include <type_traits>
 
@@ -122,6 +124,26 @@ class PdSolverOn final : public PdSolver::Impl {
   PdSolverOn(const DeviceCloth<System>& cloth, const SimulationOptions& options)
       : PdSolverOn(options, cloth.node_count(), std::vector<std::uint8_t>()) {
     thrust::copy(Traits<System>::policy(), cloth.node_pinned.begin(), cloth.node_pinned.end(), node_pinned_.begin());
+    build_model(cloth.face_nodes, cloth.node_rest, cloth.topo);
+  }
+
+  /// The model of `cloth`'s mesh as it is now (after a cut or a tear), built into this solver's
+  /// arrays, which only grow: what the constructor from a cloth builds, without allocating, filling
+  /// and uploading again what does not depend on the mesh (the iterations' ω, the pins' and
+  /// colliders' records). The next step records its launches again.
+  void rebuild(const DeviceCloth<System>& cloth) {
+    node_count_ = cloth.node_count();
+    const std::size_t n3 = 3 * static_cast<std::size_t>(node_count_);
+    resize_with_headroom(node_pinned_, static_cast<std::size_t>(node_count_));
+    thrust::copy(Traits<System>::policy(), cloth.node_pinned.begin(), cloth.node_pinned.end(), node_pinned_.begin());
+    for (auto* v : {&node_pos_, &node_vel_, &node_pred_, &node_iter_[0], &node_iter_[1], &node_iter_[2]})
+      resize_with_headroom(*v, n3);
+    // As built: the solver's own state at rest and bound; `step_in_place` binds a cloth's again.
+    thrust::fill(Traits<System>::policy(), node_vel_.begin(), node_vel_.end(), 0.0f);
+    state_pos_ = raw<float>(node_pos_);
+    state_vel_ = raw<float>(node_vel_);
+    step_graph_ = std::make_unique<ReplayGraph<System>>();
+    persistent_grid_ = -1;  // the grid depends on the mesh's size
     build_model(cloth.face_nodes, cloth.node_rest, cloth.topo);
   }
 
@@ -310,7 +332,7 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
     frame_colliders_.resize(substeps * colliders_.size());
   }
 
-  node_mass_.resize(node_count_);
+  resize_with_headroom(node_mass_, node_count_);
   thrust::for_each(
       policy, zero, zero + node_count_,
       compute_node_masses{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.node_face_offset),
@@ -319,11 +341,11 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
   const index_t edge_count = topo.edge_count;
   constraint_count_ = 2 * edge_count;
   edge_count_ = edge_count;
-  spring_nodes_.resize(2 * static_cast<std::size_t>(edge_count));
-  hinge_nodes_.resize(pd_constraint_nodes * static_cast<std::size_t>(edge_count));
-  hinge_coef_.resize(pd_constraint_nodes * static_cast<std::size_t>(edge_count));
-  for (auto* v : {&spring_weight_, &spring_rest_, &hinge_weight_, &hinge_rest_}) v->resize(edge_count);
-  constraint_force_.resize(3 * static_cast<std::size_t>(constraint_count_));
+  resize_with_headroom(spring_nodes_, 2 * static_cast<std::size_t>(edge_count));
+  resize_with_headroom(hinge_nodes_, pd_constraint_nodes * static_cast<std::size_t>(edge_count));
+  resize_with_headroom(hinge_coef_, pd_constraint_nodes * static_cast<std::size_t>(edge_count));
+  for (auto* v : {&spring_weight_, &spring_rest_, &hinge_weight_, &hinge_rest_}) resize_with_headroom(*v, edge_count);
+  resize_with_headroom(constraint_force_, 3 * static_cast<std::size_t>(constraint_count_));
   thrust::for_each(policy, zero, zero + edge_count,
                    make_pd_constraints{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.edge_nodes),
                                        raw<index_t>(topo.edge_faces), raw<index_t>(topo.edge_face_count), edge_count,
@@ -342,7 +364,7 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
                                 node_slot_offset_, node_slots_);
 
   const double h = options_.step_seconds();
-  node_diag_.resize(node_count_);
+  resize_with_headroom(node_diag_, node_count_);
   thrust::for_each(
       policy, zero, zero + node_count_,
       compute_jacobi_diagonal{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), model, raw<float>(node_mass_),
@@ -463,22 +485,38 @@ int PdSolverOn<System>::persistent_grid() {
 #if TEAR_CUDA_SYSTEM
 template <>
 int PdSolverOn<Cuda>::persistent_grid() {
-  int device = 0, cooperative = 0, sms = 0, blocks_per_sm = 0;
-  if (cudaGetDevice(&device) != cudaSuccess ||
-      cudaDeviceGetAttribute(&cooperative, cudaDevAttrCooperativeLaunch, device) != cudaSuccess || !cooperative ||
-      cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device) != cudaSuccess ||
-      cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks_per_sm, persistent_substep_kernel, persistent_block, 0) !=
-          cudaSuccess ||
-      blocks_per_sm == 0) {
-    cudaGetLastError();  // clear the error of a refused query
+  // The blocks the device holds at once, asked once per device (a solver is rebuilt after every
+  // tear): 0 where cooperative launches are not available.
+  static std::mutex mutex;
+  static std::map<int, long long> resident_blocks;
+  int device = 0;
+  if (cudaGetDevice(&device) != cudaSuccess) {
+    cudaGetLastError();
     return 0;
   }
+  long long resident = 0;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    auto known = resident_blocks.find(device);
+    if (known == resident_blocks.end()) {
+      int cooperative = 0, sms = 0, blocks_per_sm = 0;
+      if (cudaDeviceGetAttribute(&cooperative, cudaDevAttrCooperativeLaunch, device) != cudaSuccess || !cooperative ||
+          cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device) != cudaSuccess ||
+          cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks_per_sm, persistent_substep_kernel, persistent_block,
+                                                        0) != cudaSuccess) {
+        cudaGetLastError();  // clear the error of a refused query
+        sms = blocks_per_sm = 0;
+      }
+      known = resident_blocks.emplace(device, static_cast<long long>(sms) * blocks_per_sm).first;
+    }
+    resident = known->second;
+  }
+  if (resident == 0) return 0;
   // Only while each thread has at most a few elements per pass: on larger meshes separate launches,
   // replayed as a graph, measured faster (H100: 4.2 against 3.7 ms per 100 iterations at 131,797
   // nodes, 1.3 against 1.8 ms at 19,426).
   const index_t work = node_count_ > constraint_count_ ? node_count_ : constraint_count_;
   const long long wanted = (static_cast<long long>(work) + persistent_block - 1) / persistent_block;
-  const long long resident = static_cast<long long>(sms) * blocks_per_sm;
   if (wanted > 4 * resident) return 0;
   return static_cast<int>(wanted < resident ? (wanted > 0 ? wanted : 1) : resident);
 }
@@ -517,11 +555,17 @@ std::unique_ptr<PdSolver::Impl> make_pd_solver(const DeviceCloth<System>& cloth,
   return std::make_unique<PdSolverOn<System>>(cloth, options);
 }
 
+template <class System>
+void rebuild_pd_solver(PdSolver::Impl& solver, const DeviceCloth<System>& cloth) {
+  static_cast<PdSolverOn<System>&>(solver).rebuild(cloth);
+}
+
 #define TEAR_INSTANTIATE(S)                                                                                          \
   template std::unique_ptr<PdSolver::Impl> make_pd_solver<S>(const std::vector<index_t>&, const std::vector<float>&, \
                                                              index_t, const SimulationOptions&,                      \
                                                              const std::vector<std::uint8_t>&);                      \
-  template std::unique_ptr<PdSolver::Impl> make_pd_solver<S>(const DeviceCloth<S>&, const SimulationOptions&);
+  template std::unique_ptr<PdSolver::Impl> make_pd_solver<S>(const DeviceCloth<S>&, const SimulationOptions&);   \
+  template void rebuild_pd_solver<S>(PdSolver::Impl&, const DeviceCloth<S>&);
 TEAR_FOR_EACH_SYSTEM(TEAR_INSTANTIATE)
 #undef TEAR_INSTANTIATE
 

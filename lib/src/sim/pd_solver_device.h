@@ -15,4 +15,10 @@ namespace tear::backend {
 template <class System>
 std::unique_ptr<PdSolver::Impl> make_pd_solver(const DeviceCloth<System>& cloth, const SimulationOptions& options);
 
+/// `solver`, made by `make_pd_solver` on `System`, rebuilt for `cloth`'s mesh as it is now (after
+/// a cut or a tear) in its own memory, which only grows: the same model a new solver would have,
+/// without a new solver's allocations and uploads.
+template <class System>
+void rebuild_pd_solver(PdSolver::Impl& solver, const DeviceCloth<System>& cloth);
+
 }  // namespace tear::backend
