@@ -47,6 +47,12 @@ MeshFormat format_from_path(const std::string& path);
 void write_mesh(const Mesh& mesh, const std::string& path);
 void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format);
 
+/// The bytes `write_mesh` writes for `mesh` in `format`, in `bytes`: its contents are replaced and
+/// its memory kept, so a writer that encodes frame after frame into the same buffer allocates
+/// little. A mesh whose arrays do not match is a runtime `Error` "<path>: cannot write: <what>"
+/// (`path` only names it; nothing is written).
+void encode_mesh(const Mesh& mesh, const std::string& path, MeshFormat format, std::string& bytes);
+
 /// Writes `text` (any bytes) to `path` atomically: to `.<name>.tmp.<pid>` in the same directory,
 /// then `rename`d over `path`. On failure the temporary file is removed and a runtime `Error`
 /// "<path>: cannot write: <reason>" is thrown.
