@@ -68,7 +68,7 @@ void run_demo(const DemoCommandOptions& options) {
   remove_stale_temporaries(outputs);
   apply_farm_options(options.farm, run);
   FrameProgress progress(options.farm.progress, options.frames);
-  run.on_frame = [&](const FrameResult& frame, const Cloth&) {
+  run.on_frame = [&](const FrameResult& frame) {
     progress.frame(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
   };
   const RunSummary summary = run_to_files(sheet, mesh_name, script, run);

@@ -108,7 +108,7 @@ void run_run(const RunCommandOptions& options) {
                        ";weld=" + (options.read.weld ? "1" : "0");
   apply_farm_options(options.farm, run);
   FrameProgress progress(options.farm.progress, frame_count);
-  run.on_frame = [&](const FrameResult& frame, const Cloth&) {
+  run.on_frame = [&](const FrameResult& frame) {
     if (options.verbose) {
       progress.finish();
       print_frame(frame, options.start_frame + frame_count - 1);
