@@ -166,9 +166,10 @@ TEST_CASE("frame_writer: no more than max_in_flight frames are in flight, the ha
   CHECK(files_under(dir / "out").size() == frame_count);
 }
 
-TEST_CASE("frame_writer: a frame that cannot be written ends the run with its error, the frames before it on "
-          "disk, nothing after it, no temporary file",
-          "[writer]") {
+TEST_CASE(
+    "frame_writer: a frame that cannot be written ends the run with its error, the frames before it on "
+    "disk, nothing after it, no temporary file",
+    "[writer]") {
   const tear::CutScript script = tear::parse_cut_script(falling_script, "falling.json");
   struct Case {
     const char* what;
@@ -177,9 +178,10 @@ TEST_CASE("frame_writer: a frame that cannot be written ends the run with its er
     bool blocker_is_folder;
     const char* message_start;
   };
-  for (const Case& c : {Case{"its rename fails", "out/f.####.obj", "out/f.0005.obj", true, "out/f.0005.obj: cannot write: "},
-                        Case{"its folder cannot be made", "out/f####/cloth.obj", "out/f0005", false,
-                             "out/f0005: cannot create the output folder: "}}) {
+  for (const Case& c :
+       {Case{"its rename fails", "out/f.####.obj", "out/f.0005.obj", true, "out/f.0005.obj: cannot write: "},
+        Case{"its folder cannot be made", "out/f####/cloth.obj", "out/f0005", false,
+             "out/f0005: cannot create the output folder: "}}) {
     INFO(c.what);
     TempDir dir;
     fs::create_directories(dir / "out");
@@ -206,9 +208,10 @@ TEST_CASE("frame_writer: a frame that cannot be written ends the run with its er
   }
 }
 
-TEST_CASE("frame_writer: a checkpoint names a frame on disk, a stop waits for the frames handed over, resuming "
-          "gives the same bytes",
-          "[writer][resume]") {
+TEST_CASE(
+    "frame_writer: a checkpoint names a frame on disk, a stop waits for the frames handed over, resuming "
+    "gives the same bytes",
+    "[writer][resume]") {
   TempDir dir;
   const tear::CutScript script = tear::parse_cut_script(falling_script, "falling.json");
   tear::run_to_files(regular_sheet(), "sheet", script, run_options(dir / "whole/f.####.ply"));

@@ -38,8 +38,8 @@ struct FrameWriter::Pool {
   std::condition_variable written;   // a thread is done with a frame
   // In frame order; the front is the next to rename. Pointers stay valid while others come and go.
   std::deque<std::unique_ptr<Frame>> frames;
-  int failed_frame = INT_MAX;   // the earliest frame that failed
-  std::exception_ptr failure;   // once thrown, thrown again by every later call
+  int failed_frame = INT_MAX;  // the earliest frame that failed
+  std::exception_ptr failure;  // once thrown, thrown again by every later call
   std::size_t most_in_flight = 0;
   bool stopping = false;
 
@@ -153,8 +153,7 @@ struct FrameWriter::Pool {
   }
 };
 
-FrameWriter::FrameWriter(FrameSink& sink, FrameWriterOptions options)
-    : pool_(std::make_unique<Pool>(sink, options)) {}
+FrameWriter::FrameWriter(FrameSink& sink, FrameWriterOptions options) : pool_(std::make_unique<Pool>(sink, options)) {}
 
 FrameWriter::~FrameWriter() = default;
 

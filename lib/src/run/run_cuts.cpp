@@ -253,10 +253,12 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     // and every frame before it, is on disk: a resumed run never skips a frame.
     std::string state = checkpoint ? cut_cloth.save_state() : std::string();
     const bool normals = frame.simulated && out.has_normals();
-    writer.write(written.output_frame, std::move(out), normals, [&, written, checkpoint, state = std::move(state)]() mutable {
-      if (options.on_frame) options.on_frame(written);
-      if (checkpoint) write_checkpoint(options.checkpoint_path, Checkpoint{written.frame, inputs, std::move(state)});
-    });
+    writer.write(written.output_frame, std::move(out), normals,
+                 [&, written, checkpoint, state = std::move(state)]() mutable {
+                   if (options.on_frame) options.on_frame(written);
+                   if (checkpoint)
+                     write_checkpoint(options.checkpoint_path, Checkpoint{written.frame, inputs, std::move(state)});
+                 });
     if (stopping) {
       writer.finish();
       throw Error(ErrorKind::interrupted,
