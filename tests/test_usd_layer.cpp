@@ -184,7 +184,7 @@ TEST_CASE("usd_layer: samples stream to temporaries beside the layer, renamed wh
   options.start_frame = 1001;
   std::vector<int> numbers;
   const std::string points_temp = ".shot.usda.points.tmp." + std::to_string(::getpid());
-  options.on_frame = [&](const tear::FrameResult& frame, const tear::Cloth&) {
+  options.on_frame = [&](const tear::FrameResult& frame) {
     numbers.push_back(frame.output_frame);
     CHECK(frame.path == (dir / "out/shot.usda").string());
     CHECK_FALSE(fs::exists(dir / "out/shot.usda"));
@@ -231,7 +231,7 @@ TEST_CASE("usd_layer: a run that fails leaves neither the layer nor its temporar
   TempDir dir;
   const tear::CutScript script = tear::parse_cut_script(torn_script, "torn.json");
   tear::RunOptions options = usd_run(dir / "out/shot.usda");
-  options.on_frame = [&](const tear::FrameResult& frame, const tear::Cloth&) {
+  options.on_frame = [&](const tear::FrameResult& frame) {
     if (frame.frame == 3) throw tear::runtime_error("stopped at frame 3");
   };
   CHECK_THROWS_AS(tear::run_to_files(regular_sheet(), "sheet", script, options), tear::Error);

@@ -71,8 +71,8 @@ void run_demo(const DemoCommandOptions& options) {
   remove_stale_temporaries(outputs);
   apply_farm_options(options.farm, run);
   FrameProgress progress(options.farm.progress, options.frames);
-  run.on_frame = [&](const FrameResult& frame, const Cloth&) {
-    progress.frame(frame.frame, "frames, " + std::to_string(frame.stats.faces_after) + " faces");
+  run.on_frame = [&](const FrameResult& frame) {
+    progress.frame(frame.frame, "frames, " + std::to_string(frame.faces_end) + " faces");
   };
   const RunSummary summary = run_to_files(sheet, mesh_name, script, run);
   progress.finish();

@@ -46,6 +46,13 @@ void add_farm_options(CLI::App& command, FarmOptions& options) {
       ->type_name("auto|bar|lines|none")
       ->check(CLI::IsMember({"auto", "bar", "lines", "none"}))
       ->capture_default_str();
+  command
+      .add_option("--writer-threads", options.writer_threads,
+                  "Threads that encode and write the frames beside the run (files still appear in frame order); "
+                  "0: min(4, hardware threads)")
+      ->type_name("N")
+      ->check(CLI::Range(0, 256))
+      ->capture_default_str();
 }
 
 void apply_farm_options(const FarmOptions& options, RunOptions& run) {
@@ -54,6 +61,7 @@ void apply_farm_options(const FarmOptions& options, RunOptions& run) {
   run.checkpoint_path = options.checkpoint_path;
   run.checkpoint_every = options.checkpoint_every;
   run.resume = options.resume;
+  run.writer_threads = options.writer_threads;
   install_stop_handlers();
   run.stop = &stop_requested;
 }

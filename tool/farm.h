@@ -17,12 +17,14 @@ struct FarmOptions {
   int checkpoint_every = 1;
   bool resume = false;
   std::string progress = "auto";
+  int writer_threads = 0;
 };
 
-/// Adds `--checkpoint PATH`, `--checkpoint-every N`, `--resume` and `--progress auto|bar|lines|none`.
+/// Adds `--checkpoint PATH`, `--checkpoint-every N`, `--resume`, `--progress auto|bar|lines|none`
+/// and `--writer-threads N`.
 void add_farm_options(CLI::App& command, FarmOptions& options);
 
-/// Copies the checkpoint options into `run`, installs the SIGTERM/SIGINT handlers that stop the run
+/// Copies the checkpoint options and the writer threads into `run`, installs the SIGTERM/SIGINT handlers that stop the run
 /// after the frame being written (`RunOptions::stop`), and checks the combination (`--resume`
 /// needs `--checkpoint`: a usage `Error`).
 void apply_farm_options(const FarmOptions& options, RunOptions& run);

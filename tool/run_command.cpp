@@ -57,7 +57,7 @@ std::string check_finite_positive(const std::string& text) {
 }
 
 /// `frame N/LAST: ...`: the frame's number and the last frame's, as the files are numbered.
-void print_frame(const FrameResult& frame, const Cloth& cloth, int last_frame) {
+void print_frame(const FrameResult& frame, int last_frame) {
   const CutStats& s = frame.stats;
   // Cuts that split nothing (they missed the cloth, or retraced a tear) are said to have done so.
   const bool changed = s.nodes_after != s.nodes_before || s.faces_after != s.faces_before;
@@ -68,8 +68,7 @@ void print_frame(const FrameResult& frame, const Cloth& cloth, int last_frame) {
   // Tears happen while the frame is stepped, after its cuts: the mesh they leave is the frame's.
   if (frame.tearing)
     std::cout << frame.tear_events << (frame.tear_events == 1 ? " tear event" : " tear events") << " ("
-              << frame.torn_length << " m torn) -> " << cloth.node_count() << " nodes, " << cloth.face_count()
-              << " faces, ";
+              << frame.torn_length << " m torn) -> " << frame.nodes_end << " nodes, " << frame.faces_end << " faces, ";
   std::cout << frame.path << std::endl;
   if (!std::cout) throw runtime_error("cannot write to standard output");
 }
@@ -114,12 +113,12 @@ void run_run(const RunCommandOptions& options) {
                        ";weld=" + (options.read.weld ? "1" : "0");
   apply_farm_options(options.farm, run);
   FrameProgress progress(options.farm.progress, frame_count);
-  run.on_frame = [&](const FrameResult& frame, const Cloth& cloth) {
+  run.on_frame = [&](const FrameResult& frame) {
     if (options.verbose) {
       progress.finish();
-      print_frame(frame, cloth, options.start_frame + frame_count - 1);
+      print_frame(frame, options.start_frame + frame_count - 1);
     }
-    progress.frame(frame.frame, "frames, " + std::to_string(cloth.face_count()) + " faces");
+    progress.frame(frame.frame, "frames, " + std::to_string(frame.faces_end) + " faces");
   };
   run_to_files(mesh, options.mesh_path, script, run);
   progress.finish();

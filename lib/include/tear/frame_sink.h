@@ -6,6 +6,7 @@
 
 #include "tear/frame_path.h"
 #include "tear/mesh.h"
+#include "tear/write_mesh.h"
 
 namespace tear {
 
@@ -20,6 +21,17 @@ class FrameSink {
   virtual void finish() {}
   /// The file frame `frame` goes to, for progress lines and reports.
   virtual std::string path_of(int frame) const = 0;
+
+  /// True when every frame is a file of its own that `stage` writes: frames may then be staged
+  /// several at once, on any threads, and each is written once its file is renamed
+  /// (`commit_temporary_file`), in whatever order the caller renames them (`FrameWriter`: frame
+  /// order). False for a sink that must take its frames in order through `write`.
+  virtual bool stages_files() const { return false; }
+  /// For a sink that `stages_files`: creates the folders of frame `frame`'s file and writes the
+  /// frame to its temporary file (`write_temporary_file`), encoding it into `bytes`, a buffer the
+  /// caller keeps from frame to frame. `write` is `stage` then the rename. A runtime `Error` naming
+  /// the file when it cannot be written (no temporary file left); others throw a usage `Error`.
+  virtual TemporaryFile stage(int frame, const Mesh& mesh, std::string& bytes) const;
 };
 
 /// One file per frame, named by a `FramePattern`, in the format of its extension (`write_mesh`),
@@ -30,6 +42,8 @@ class FrameFiles final : public FrameSink {
   explicit FrameFiles(FramePattern pattern) : pattern_(std::move(pattern)) {}
   void write(int frame, const Mesh& mesh) override;
   std::string path_of(int frame) const override { return pattern_.path(frame); }
+  bool stages_files() const override { return true; }
+  TemporaryFile stage(int frame, const Mesh& mesh, std::string& bytes) const override;
 
  private:
   FramePattern pattern_;

@@ -39,10 +39,16 @@ struct FrameResult {
   bool tearing = false;      ///< the simulation tears (`simulation.tearing`): the two below count
   index_t tear_events = 0;   ///< faces the frame's step tore (`TearStats::events`)
   double torn_length = 0;    ///< rest length of the frame's new crack segments, metres
+  /// The cloth as the frame leaves it, after its cuts and tears (`stats` counts the cuts' only).
+  index_t nodes_end = 0, faces_end = 0;
 };
 
 /// Called after each frame, with the cloth as the frame left it.
 using FrameCallback = std::function<void(const FrameResult&, const Cloth&)>;
+
+/// Called once a frame is on disk (`RunOptions::on_frame`); the cloth has moved on by then, so it
+/// gets the frame's result only (`faces_end`: its face count).
+using FrameWrittenCallback = std::function<void(const FrameResult&)>;
 
 /// The frame loop: for frame 1..`frame_count`, applies that frame's cuts of `script` together
 /// (`Cloth::cut` with `script.snap`), then calls `on_frame`. Frames without cuts leave the cloth
@@ -83,13 +89,18 @@ struct RunOptions {
   UpAxis up_axis = UpAxis::y;
   double meters_per_unit = 1;  ///< finite, > 0
   Device device = Device::cpu;
-  /// Called after each frame is written (may be empty).
-  FrameCallback on_frame;
+  /// Called after each frame is on disk, in frame order, on the thread that called `run_to_files`
+  /// (may be empty). Frames are written beside the run (`FrameWriter`), so this comes a frame or a
+  /// few after the frame was computed.
+  FrameWrittenCallback on_frame;
+  /// Threads that write the frames beside the run (`FrameWriter`); 0: min(4, hardware threads).
+  int writer_threads = 0;
   /// When not empty, a JSON report of the run (docs/cli.md, `--report`) is written there
   /// atomically once the last frame is written.
   std::string report_path;
   /// When not empty, a checkpoint (tear/checkpoint.h) is written there atomically after every
-  /// `checkpoint_every`-th frame, after the last one, and when the run is stopped.
+  /// `checkpoint_every`-th frame, after the last one, and when the run is stopped: the cloth as
+  /// that frame left it, written once that frame and every frame before it are on disk.
   std::string checkpoint_path;
   int checkpoint_every = 1;
   /// With `checkpoint_path`: when the checkpoint exists, go on after its frame (an input `Error`
@@ -98,8 +109,9 @@ struct RunOptions {
   /// The options that change results besides the mesh, the script and the device, spelled out
   /// ("name=value;..."), so that a checkpoint made with others is refused.
   std::string result_options;
-  /// Checked after each frame is written: once it is set (by a signal handler), the run writes its
-  /// checkpoint and stops with an `Error` of kind `interrupted`.
+  /// Checked after each frame is handed to the writer: once it is set (by a signal handler), the
+  /// run waits until every frame handed over is on disk, writes its checkpoint and stops with an
+  /// `Error` of kind `interrupted`.
   const volatile std::sig_atomic_t* stop = nullptr;
 };
 
@@ -118,6 +130,14 @@ struct RunSummary {
 /// and normals the mesh came with, carried through the cuts. A folder that cannot be created, or
 /// a file that cannot be written, is a runtime `Error` naming it. The same inputs give
 /// byte-identical files.
+///
+/// This thread runs the frames and downloads each frame's mesh; a `FrameWriter` of
+/// `writer_threads` threads computes its normals, encodes and writes it, at most twice as many
+/// frames in flight as threads. Files are renamed into place in frame order, and `on_frame`,
+/// checkpoints and the stop come after the frame is on disk. The first frame that cannot be
+/// written ends the run with its `Error` once the frames before it are on disk; no frame after it
+/// is renamed and no temporary file is left. An error of the run itself (a simulation that
+/// diverged) leaves the frames before it on disk.
 ///
 /// With a `simulation` block the block and its `nodes` pins are checked with the rest, the cloth
 /// moves (`run_cuts`), and a mesh that came with normals is written with

@@ -111,6 +111,10 @@ class UsdLayer final : public FrameSink {
   void write(int frame, const Mesh& mesh) override;
   void finish() override;
   std::string path_of(int frame) const override { return pattern_.path(frame); }
+  /// True for a layer per frame (`shot.####.usda`): each frame's layer is staged on its own. A
+  /// layer for the run takes its frames in order through `write`.
+  bool stages_files() const override { return pattern_.has_frame_number(); }
+  TemporaryFile stage(int frame, const Mesh& mesh, std::string& bytes) const override;
 
  private:
   struct Sequence;

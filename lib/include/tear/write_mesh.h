@@ -47,9 +47,35 @@ MeshFormat format_from_path(const std::string& path);
 void write_mesh(const Mesh& mesh, const std::string& path);
 void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format);
 
+/// The bytes `write_mesh` writes for `mesh` in `format`, in `bytes`: its contents are replaced and
+/// its memory kept, so a writer that encodes frame after frame into the same buffer allocates
+/// little. A mesh whose arrays do not match is a runtime `Error` "<path>: cannot write: <what>"
+/// (`path` only names it; nothing is written).
+void encode_mesh(const Mesh& mesh, const std::string& path, MeshFormat format, std::string& bytes);
+
 /// Writes `text` (any bytes) to `path` atomically: to `.<name>.tmp.<pid>` in the same directory,
 /// then `rename`d over `path`. On failure the temporary file is removed and a runtime `Error`
 /// "<path>: cannot write: <reason>" is thrown.
 void write_file_atomically(const std::string& path, const std::string& text);
+
+/// A file written whole under its temporary name beside `path` and not yet renamed to it: the
+/// two halves of `write_file_atomically` apart, so that files written side by side on several
+/// threads can be renamed in an order of the caller's (tear/frame_writer.h).
+struct TemporaryFile {
+  std::string path;       ///< where the file goes
+  std::string temporary;  ///< `.<name>.tmp.<pid>` in the folder of `path`
+};
+
+/// The first half of `write_file_atomically`: writes `bytes` to the temporary file of `path`,
+/// flushed to disk and closed. On failure the temporary file is removed and a runtime `Error`
+/// "<path>: cannot write: <reason>" is thrown. Files of different paths may be written at once.
+TemporaryFile write_temporary_file(const std::string& path, const std::string& bytes);
+
+/// The second half: renames `file.temporary` over `file.path`. On failure the temporary file is
+/// removed and a runtime `Error` "<path>: cannot write: <reason>" is thrown.
+void commit_temporary_file(const TemporaryFile& file);
+
+/// Removes `file.temporary` (a file that will not be renamed); never throws.
+void remove_temporary_file(const TemporaryFile& file);
 
 }  // namespace tear

@@ -15,10 +15,20 @@ void create_folder_of(const std::string& path) {
   if (error) throw runtime_error(folder.string() + ": cannot create the output folder: " + error.message());
 }
 
+TemporaryFile FrameSink::stage(int, const Mesh&, std::string&) const {
+  throw Error(ErrorKind::usage, "this frame sink writes its frames in order only (FrameSink::write)");
+}
+
 void FrameFiles::write(int frame, const Mesh& mesh) {
+  std::string bytes;
+  commit_temporary_file(stage(frame, mesh, bytes));
+}
+
+TemporaryFile FrameFiles::stage(int frame, const Mesh& mesh, std::string& bytes) const {
   const std::string path = pattern_.path(frame);
   create_folder_of(path);
-  write_mesh(mesh, path);
+  encode_mesh(mesh, path, format_from_path(path), bytes);
+  return write_temporary_file(path, bytes);
 }
 
 }  // namespace tear

@@ -574,12 +574,19 @@ UsdLayer::UsdLayer(FramePattern pattern, UsdLayerOptions options) : pattern_(std
 
 UsdLayer::~UsdLayer() = default;
 
+TemporaryFile UsdLayer::stage(int frame, const Mesh& mesh, std::string& bytes) const {
+  if (!pattern_.has_frame_number()) return FrameSink::stage(frame, mesh, bytes);
+  const std::string path = pattern_.path(frame);
+  create_folder_of(path);
+  check_arrays(mesh, path);
+  bytes = usda_layer_text(mesh, frame, options_);
+  return write_temporary_file(path, bytes);
+}
+
 void UsdLayer::write(int frame, const Mesh& mesh) {
   if (pattern_.has_frame_number()) {
-    const std::string path = pattern_.path(frame);
-    create_folder_of(path);
-    check_arrays(mesh, path);
-    write_file_atomically(path, usda_layer_text(mesh, frame, options_));
+    std::string bytes;
+    commit_temporary_file(stage(frame, mesh, bytes));
     return;
   }
   check_arrays(mesh, pattern_.pattern());

@@ -73,8 +73,9 @@ std::size_t remove_stale_temporaries(const std::vector<std::string>& paths) {
   return removed;
 }
 
-void write_file_atomically(const std::string& path, const std::string& text) {
-  const std::string temp = temporary_path(path, static_cast<long>(::getpid()));
+TemporaryFile write_temporary_file(const std::string& path, const std::string& bytes) {
+  TemporaryFile file{path, temporary_path(path, static_cast<long>(::getpid()))};
+  const std::string& temp = file.temporary;
 
   auto fail = [&](int error, bool remove_temp) {
     if (remove_temp) ::unlink(temp.c_str());
@@ -84,8 +85,8 @@ void write_file_atomically(const std::string& path, const std::string& text) {
   const int fd = ::open(temp.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
   if (fd < 0) throw fail(errno, false);
   std::size_t written = 0;
-  while (written < text.size()) {
-    const ssize_t n = ::write(fd, text.data() + written, text.size() - written);
+  while (written < bytes.size()) {
+    const ssize_t n = ::write(fd, bytes.data() + written, bytes.size() - written);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0) {
       const int error = errno;
@@ -101,7 +102,20 @@ void write_file_atomically(const std::string& path, const std::string& text) {
     throw fail(error, true);
   }
   if (::close(fd) != 0) throw fail(errno, true);
-  if (std::rename(temp.c_str(), path.c_str()) != 0) throw fail(errno, true);
+  return file;
+}
+
+void commit_temporary_file(const TemporaryFile& file) {
+  if (std::rename(file.temporary.c_str(), file.path.c_str()) == 0) return;
+  const int error = errno;
+  ::unlink(file.temporary.c_str());
+  throw runtime_error(file.path + ": cannot write: " + std::strerror(error));
+}
+
+void remove_temporary_file(const TemporaryFile& file) { ::unlink(file.temporary.c_str()); }
+
+void write_file_atomically(const std::string& path, const std::string& text) {
+  commit_temporary_file(write_temporary_file(path, text));
 }
 
 }  // namespace tear

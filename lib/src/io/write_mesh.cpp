@@ -1,15 +1,16 @@
 #include "tear/write_mesh.h"
 
 #include <algorithm>
+#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
-#include <map>
 #include <nlohmann/json.hpp>
 #include <numeric>
 #include <string>
+#include <unordered_map>
 #include <utility>
 #include <vector>
 
@@ -27,21 +28,31 @@ std::uint32_t float_bits(float value) {
   return bits;
 }
 
-/// `%.9g` without the locale: 9 significant digits always read back to the same float. Small
-/// magnitudes go to fixed notation where that is exact too, because fast OBJ parsers (assimp's
-/// among them) scale by the exponent in float arithmetic and miss by one ulp on a few percent of
-/// such numbers.
-std::string format_float(float value) {
+/// Appends `%.9g` of `value` without the locale: 9 significant digits always read back to the
+/// same float. Small magnitudes go to fixed notation where that is exact too, because fast OBJ
+/// parsers (assimp's among them) scale by the exponent in float arithmetic and miss by one ulp on
+/// a few percent of such numbers. The digits go through a buffer on the stack, so a frame of
+/// hundreds of thousands of numbers allocates nothing per number.
+void append_float(std::string& out, float value) {
   char text[64];
   const double wide = value;
   if (std::isfinite(value) && value != 0.0f && std::fabs(value) < 1e-4f) {
     const auto fixed = std::to_chars(text, text + sizeof text, wide, std::chars_format::fixed, 15);
     float back = 0.0f;
     const auto parsed = std::from_chars(text, fixed.ptr, back);
-    if (parsed.ec == std::errc() && back == value) return std::string(text, fixed.ptr);
+    if (parsed.ec == std::errc() && back == value) {
+      out.append(text, fixed.ptr);
+      return;
+    }
   }
   const auto general = std::to_chars(text, text + sizeof text, wide, std::chars_format::general, 9);
-  return std::string(text, general.ptr);
+  out.append(text, general.ptr);
+}
+
+/// Appends `value` in decimal, as `std::to_string` spells it.
+void append_int(std::string& out, long long value) {
+  char text[24];
+  out.append(text, std::to_chars(text, text + sizeof text, value).ptr);
 }
 
 /// Rejects meshes whose arrays do not match, so a writer never reads out of range.
@@ -136,18 +147,37 @@ SplitNodes split_nodes(const Mesh& mesh) {
   return split;
 }
 
+/// The bits of a `width`-float value, hashed for `number_by_value`.
+template <int width>
+struct ValueBits {
+  std::array<std::uint32_t, width> bits;
+  bool operator==(const ValueBits& other) const { return bits == other.bits; }
+  struct Hash {
+    std::size_t operator()(const ValueBits& value) const {
+      std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the words
+      for (std::uint32_t word : value.bits) hash = (hash ^ word) * 1099511628211ull;
+      return static_cast<std::size_t>(hash ^ (hash >> 32));
+    }
+  };
+};
+
 /// Numbers distinct values (compared bit for bit) in order of first use, as OBJ's `vt`/`vn` lists.
+/// The numbering depends on the order of use only, not on the table that finds the values.
 template <int width>
 std::vector<index_t> number_by_value(const std::vector<float>& corner_values, std::string& lines, const char* keyword) {
-  std::map<std::vector<std::uint32_t>, index_t> value_index;
+  std::unordered_map<ValueBits<width>, index_t, typename ValueBits<width>::Hash> value_index;
   std::vector<index_t> corner_index(corner_values.size() / width);
-  std::vector<std::uint32_t> key(width);
+  value_index.reserve(corner_index.size() / 4);
+  ValueBits<width> key;
   for (std::size_t c = 0; c < corner_index.size(); ++c) {
-    for (int k = 0; k < width; ++k) key[k] = float_bits(corner_values[width * c + k]);
-    auto inserted = value_index.emplace(key, static_cast<index_t>(value_index.size()));
+    for (int k = 0; k < width; ++k) key.bits[k] = float_bits(corner_values[width * c + k]);
+    auto inserted = value_index.try_emplace(key, static_cast<index_t>(value_index.size()));
     if (inserted.second) {
       lines += keyword;
-      for (int k = 0; k < width; ++k) lines += " " + format_float(corner_values[width * c + k]);
+      for (int k = 0; k < width; ++k) {
+        lines += ' ';
+        append_float(lines, corner_values[width * c + k]);
+      }
       lines += '\n';
     }
     corner_index[c] = inserted.first->second;
@@ -155,30 +185,38 @@ std::vector<index_t> number_by_value(const std::vector<float>& corner_values, st
   return corner_index;
 }
 
-std::string obj_text(const Mesh& mesh) {
-  std::string text = "# tear\n";
+void put_obj_text(const Mesh& mesh, std::string& text) {
+  text = "# tear\n";
   for (index_t node = 0; node < mesh.node_count(); ++node) {
-    text += "v " + format_float(mesh.node_pos[3 * node]) + " " + format_float(mesh.node_pos[3 * node + 1]) + " " +
-            format_float(mesh.node_pos[3 * node + 2]) + "\n";
+    text += 'v';
+    for (int k = 0; k < 3; ++k) {
+      text += ' ';
+      append_float(text, mesh.node_pos[3 * node + k]);
+    }
+    text += '\n';
   }
   std::vector<index_t> corner_uv_index, corner_normal_index;
   if (mesh.has_uv()) corner_uv_index = number_by_value<2>(mesh.corner_uv, text, "vt");
   if (mesh.has_normals()) corner_normal_index = number_by_value<3>(mesh.corner_normal, text, "vn");
   for (std::size_t c = 0; c < mesh.face_nodes.size(); ++c) {
     text += c % 3 == 0 ? "f " : " ";
-    text += std::to_string(mesh.face_nodes[c] + 1);
+    append_int(text, mesh.face_nodes[c] + 1LL);
     if (mesh.has_uv() || mesh.has_normals()) text += '/';
-    if (mesh.has_uv()) text += std::to_string(corner_uv_index[c] + 1);
-    if (mesh.has_normals()) text += "/" + std::to_string(corner_normal_index[c] + 1);
+    if (mesh.has_uv()) append_int(text, corner_uv_index[c] + 1LL);
+    if (mesh.has_normals()) {
+      text += '/';
+      append_int(text, corner_normal_index[c] + 1LL);
+    }
     if (c % 3 == 2) text += '\n';
   }
-  return text;
 }
 
 void append_u8(std::string& out, std::uint8_t value) { out += static_cast<char>(value); }
 
 void append_u32(std::string& out, std::uint32_t value) {
-  for (int byte = 0; byte < 4; ++byte) out += static_cast<char>((value >> (8 * byte)) & 0xFFu);
+  const char bytes[4] = {static_cast<char>(value & 0xFFu), static_cast<char>((value >> 8) & 0xFFu),
+                         static_cast<char>((value >> 16) & 0xFFu), static_cast<char>((value >> 24) & 0xFFu)};
+  out.append(bytes, 4);
 }
 
 void append_f32(std::string& out, float value) { append_u32(out, float_bits(value)); }
@@ -188,9 +226,9 @@ float corner_value(const std::vector<float>& corner_values, int width, index_t c
   return corner == none ? 0.0f : corner_values[static_cast<std::size_t>(width) * corner + k];
 }
 
-std::string ply_bytes(const Mesh& mesh) {
+void put_ply_bytes(const Mesh& mesh, std::string& out) {
   const SplitNodes split = split_nodes(mesh);
-  std::string out = "ply\nformat binary_little_endian 1.0\ncomment tear\n";
+  out = "ply\nformat binary_little_endian 1.0\ncomment tear\n";
   out += "element vertex " + std::to_string(split.vertex_node.size()) + "\n";
   out += "property float x\nproperty float y\nproperty float z\n";
   if (mesh.has_normals()) out += "property float nx\nproperty float ny\nproperty float nz\n";
@@ -222,7 +260,6 @@ std::string ply_bytes(const Mesh& mesh) {
   }
   // Vertex i is node i, so the torn edges' node pairs are vertex pairs.
   for (index_t node : mesh.torn_edge_nodes) append_u32(out, static_cast<std::uint32_t>(node));
-  return out;
 }
 
 std::string base64(const std::string& bytes) {
@@ -376,23 +413,23 @@ std::pair<nlohmann::json, std::string> gltf_document(const Mesh& mesh) {
   return {document, buffer};
 }
 
-std::string gltf_text(const Mesh& mesh) {
+void put_gltf_text(const Mesh& mesh, std::string& out) {
   auto [document, buffer] = gltf_document(mesh);
   if (!buffer.empty()) {
     document["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(buffer);
   }
-  return document.dump(2) + "\n";
+  out = document.dump(2);
+  out += '\n';
 }
 
-std::string glb_bytes(const Mesh& mesh) {
+void put_glb_bytes(const Mesh& mesh, std::string& out) {
   const auto [document, buffer] = gltf_document(mesh);
   // Chunks are 4-byte aligned: JSON padded with spaces, the binary chunk with zeros.
   std::string json_chunk = document.dump();
   json_chunk.resize((json_chunk.size() + 3) / 4 * 4, ' ');
-  std::string bin_chunk = buffer;
-  bin_chunk.resize((bin_chunk.size() + 3) / 4 * 4, '\0');
-  const std::size_t total = 12 + 8 + json_chunk.size() + (bin_chunk.empty() ? 0 : 8 + bin_chunk.size());
-  std::string out;
+  const std::size_t bin_size = (buffer.size() + 3) / 4 * 4;
+  const std::size_t total = 12 + 8 + json_chunk.size() + (bin_size == 0 ? 0 : 8 + bin_size);
+  out.clear();
   out.reserve(total);
   append_u32(out, 0x46546C67u);  // "glTF"
   append_u32(out, 2);
@@ -400,31 +437,37 @@ std::string glb_bytes(const Mesh& mesh) {
   append_u32(out, static_cast<std::uint32_t>(json_chunk.size()));
   append_u32(out, 0x4E4F534Au);  // "JSON"
   out += json_chunk;
-  if (!bin_chunk.empty()) {
-    append_u32(out, static_cast<std::uint32_t>(bin_chunk.size()));
+  if (bin_size > 0) {
+    append_u32(out, static_cast<std::uint32_t>(bin_size));
     append_u32(out, 0x004E4942u);  // "BIN\0"
-    out += bin_chunk;
+    out += buffer;
+    out.resize(total, '\0');
   }
-  return out;
 }
 
 }  // namespace
 
 void write_mesh(const Mesh& mesh, const std::string& path) { write_mesh(mesh, path, format_from_path(path)); }
 
-void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format) {
+void encode_mesh(const Mesh& mesh, const std::string& path, MeshFormat format, std::string& bytes) {
   check_mesh(mesh, path);
   switch (format) {
     case MeshFormat::obj:
-      return write_file_atomically(path, obj_text(mesh));
+      return put_obj_text(mesh, bytes);
     case MeshFormat::ply:
-      return write_file_atomically(path, ply_bytes(mesh));
+      return put_ply_bytes(mesh, bytes);
     case MeshFormat::gltf:
-      return write_file_atomically(path, gltf_text(mesh));
+      return put_gltf_text(mesh, bytes);
     case MeshFormat::glb:
-      return write_file_atomically(path, glb_bytes(mesh));
+      return put_glb_bytes(mesh, bytes);
   }
   throw Error(ErrorKind::usage, path + ": unknown mesh format");
+}
+
+void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format) {
+  std::string bytes;
+  encode_mesh(mesh, path, format, bytes);
+  write_file_atomically(path, bytes);
 }
 
 }  // namespace tear

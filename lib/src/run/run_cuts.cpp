@@ -19,6 +19,7 @@
 #include "tear/error.h"
 #include "tear/frame_path.h"
 #include "tear/frame_sink.h"
+#include "tear/frame_writer.h"
 #include "tear/simulation.h"
 #include "tear/usd_layer.h"
 #include "tear/validate_mesh.h"
@@ -192,6 +193,8 @@ void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const Fram
       result.tear_events = torn.events;
       result.torn_length = torn.length;
     }
+    result.nodes_end = cloth.node_count();
+    result.faces_end = cloth.face_count();
     if (on_frame) on_frame(result, cloth);
   }
 }
@@ -233,13 +236,17 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     cloth.load_state(checkpoint.cloth_state, options.checkpoint_path);
     first_frame = checkpoint.frame + 1;
   }
-  run_cuts(cloth, script, frame_count, [&](const FrameResult& frame, const Cloth& cut_cloth) {
+  // Declared after the sink: it is gone (its threads ended, the temporary files of frames it did
+  // not rename removed) before the sink goes.
+  FrameWriter writer(*sink, FrameWriterOptions{options.writer_threads});
+  const int checkpoint_every = std::max(options.checkpoint_every, 1);
+  const FrameCallback hand_over = [&](const FrameResult& frame, const Cloth& cut_cloth) {
     FrameResult written = frame;
     written.output_frame = options.start_frame + frame.frame - 1;
     written.path = sink->path_of(written.output_frame);
+    // The download is all this thread does of the frame's output: normals, encoding and the file
+    // are the writer's.
     Mesh out = cut_cloth.mesh();
-    if (frame.simulated && out.has_normals()) out.corner_normal = area_weighted_corner_normals(out);
-    sink->write(written.output_frame, out);
     if (!options.report_path.empty()) {
       nlohmann::json entry = frame_report(written, cut_cloth);
       add_tearing(entry, written);
@@ -253,15 +260,39 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     simulation_ms += frame.simulation_ms;
     summary.frames = frame.frame;
     summary.faces = cut_cloth.face_count();
-    if (options.on_frame) options.on_frame(written, cut_cloth);
     const bool stopping = options.stop && *options.stop;
-    if (checkpoints && (stopping || frame.frame == frame_count || frame.frame % std::max(options.checkpoint_every, 1) == 0))
-      write_checkpoint(options.checkpoint_path, Checkpoint{frame.frame, inputs, cut_cloth.save_state()});
-    if (stopping)
+    const bool checkpoint =
+        checkpoints && (stopping || frame.frame == frame_count || frame.frame % checkpoint_every == 0);
+    // The cloth as this frame left it, saved now (the cloth moves on) and written once the frame,
+    // and every frame before it, is on disk: a resumed run never skips a frame.
+    std::string state = checkpoint ? cut_cloth.save_state() : std::string();
+    const bool normals = frame.simulated && out.has_normals();
+    writer.write(written.output_frame, std::move(out), normals,
+                 [&, written, checkpoint, state = std::move(state)]() mutable {
+                   if (options.on_frame) options.on_frame(written);
+                   if (checkpoint)
+                     write_checkpoint(options.checkpoint_path, Checkpoint{written.frame, inputs, std::move(state)});
+                 });
+    if (stopping) {
+      writer.finish();
       throw Error(ErrorKind::interrupted,
                   "stopped after frame " + std::to_string(frame.frame) + " of " + std::to_string(frame_count) +
                       (checkpoints ? "; '--resume' goes on from " + options.checkpoint_path : std::string()));
-  }, first_frame);
+    }
+  };
+  try {
+    run_cuts(cloth, script, frame_count, hand_over, first_frame);
+    writer.finish();
+  } catch (...) {
+    // An error of the frame loop itself (a simulation that diverged) leaves the frames handed over
+    // before it on disk, as writing them one after the other did. A failure of the writer (or of
+    // `on_frame`) is thrown again by `finish`, and is not the one to report twice.
+    try {
+      writer.finish();
+    } catch (...) {
+    }
+    throw;
+  }
   sink->finish();
   summary.wall_ms = ms_since(start);
 
