@@ -80,15 +80,10 @@ TEAR_HD inline double face_principal_stretch(const index_t* face_nodes, const fl
   return lambda > 0 ? sqrt(lambda) : 0;
 }
 
-/// Per face: 1 when its stretch is over `limit`; summed, the faces that may tear (one pass).
-struct count_over_stretched {
-  const index_t* face_nodes;
-  const float* node_rest;
-  const float* node_pos;
+/// A stretch over `limit`: counted, the faces that may tear.
+struct is_over_limit {
   double limit;
-  TEAR_HD index_t operator()(index_t f) const {
-    return face_principal_stretch(face_nodes, node_rest, node_pos, f) > limit ? 1 : 0;
-  }
+  TEAR_HD bool operator()(double stretch) const { return stretch > limit; }
 };
 
 /// Per face: its stretch.

@@ -101,8 +101,8 @@ class Remesher {
                            const CutOptions& options, StageClock& clock);
 
   /// §2.1 for tearing: cracks through the faces stretched beyond `tearing.stretch`, chosen and laid
-  /// as `kernels/tear_cracks.h` says. Returns false when no face is over the limit (one pass and
-  /// one read-back of a count).
+  /// as `kernels/tear_cracks.h` says. Returns false when no face is over the limit (a pass writing
+  /// the stretches, a count of them and its read-back).
   bool cut_info_from_strain(const DeviceCloth<System>& cloth, const TearingOptions& tearing, const CutOptions& options,
                             TearCut& torn, StageClock& clock);
 
@@ -268,19 +268,19 @@ bool Remesher<System>::cut_info_from_strain(const DeviceCloth<System>& cloth, co
   if (!tearing.enabled() || f_count == 0) return false;
   const auto policy = Traits<System>::policy(alloc_);
   const thrust::counting_iterator<index_t> zero(0);
-  const index_t over =
-      thrust::transform_reduce(policy, zero, zero + f_count,
-                               count_over_stretched{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
-                                                    raw<float>(cloth.node_pos), tearing.stretch},
-                               index_t(0), thrust::plus<index_t>());
+  // Each face's stretch written, then the faces over the limit counted from it: one pass of the
+  // stretch (a reduction computing it inline runs it on a few threads each, several times slower
+  // on a GPU) and the kept stretches serve the choice below.
+  resize_with_headroom(face_stretch_, f_count);
+  for_each_index(f_count, write_face_stretch{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
+                                             raw<float>(cloth.node_pos), raw<double>(face_stretch_)});
+  const auto over = thrust::count_if(policy, face_stretch_.begin(), face_stretch_.begin() + f_count,
+                                     is_over_limit{tearing.stretch});
   if (over == 0) return false;
 
   // The faces that tear: over the limit and first among the faces sharing a node with them, at
   // most `max_faces_per_step` of them (by rank). No order depends on the threads: the choice is a
   // comparison of each face with its neighbours, the compaction is stable and the rank a total order.
-  resize_with_headroom(face_stretch_, f_count);
-  for_each_index(f_count, write_face_stretch{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
-                                             raw<float>(cloth.node_pos), raw<double>(face_stretch_)});
   resize_with_headroom(face_chosen_, f_count);
   for_each_index(f_count, choose_tearing_faces{raw<index_t>(cloth.face_nodes), raw<index_t>(topo.node_face_offset),
                                                raw<index_t>(topo.node_faces), raw<double>(face_stretch_),
