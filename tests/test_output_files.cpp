@@ -10,6 +10,7 @@
 
 #include "catch.h"
 #include "cli_support.h"
+#include "tear/bench.h"
 #include "tear/error.h"
 #include "tear/frame_path.h"
 #include "tear/output_files.h"
@@ -213,4 +214,36 @@ TEST_CASE("bench: bad sizes and an unwritable --json are refused before the firs
   CHECK(json.exit_code == 3);
   CHECK(json.out.empty());
   CHECK(json.err == "tear: " + (dir / "file").string() + ": cannot write in the output folder: Not a directory\n");
+}
+
+TEST_CASE("bench: the io part writes and reads back every format and leaves nothing behind", "[outputs][cli][bench]") {
+  TempDir dir;
+  tear::BenchOptions options;
+  options.face_counts = {200};
+  options.repeats = 1;
+  options.warmup = 0;
+  const std::vector<tear::IoBenchRow> rows = tear::run_io_bench(options, dir.path.string());
+  REQUIRE(rows.size() == 4);
+  const std::vector<std::string> formats = {"obj", "ply", "gltf", "glb"};
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    INFO(tear::to_json(rows[i]));
+    CHECK(rows[i].format == formats[i]);
+    CHECK(rows[i].faces == 200);
+    CHECK(rows[i].bytes > 200 * 3 * sizeof(float));
+    CHECK(rows[i].encode_ms > 0);
+    CHECK(rows[i].write_ms > 0);
+    CHECK(rows[i].read_ms > 0);
+  }
+  CHECK(names_in(dir.path).empty());
+
+  fs::create_directories(dir / "disk");
+  const Run cli = dir.tear("bench --only io --faces 200,400 --repeats 1 --warmup 0 --io-folder " + quoted(dir / "disk") +
+                           " --json " + quoted(dir / "io.json"));
+  INFO(cli.err);
+  CHECK(cli.exit_code == 0);
+  CHECK(cli.out.find("\nio: ") != std::string::npos);
+  CHECK(cli.out.find(" glb ") != std::string::npos);
+  CHECK(names_in(dir / "disk").empty());
+  const std::string json = read_bytes(dir / "io.json");
+  CHECK(json.find("\"read_ms\"") != std::string::npos);
 }

@@ -1,5 +1,9 @@
 // `tear bench`: the built-in benchmark on generated sheets and the paper's scene.
+#include <unistd.h>
+
 #include <cstdio>
+#include <filesystem>
+#include <system_error>
 #include <string>
 #include <vector>
 
@@ -23,7 +27,30 @@ struct BenchArgs {
   std::vector<std::string> resolutions;
   std::vector<std::string> only;
   std::string json_path;
+  std::string io_folder;
   bool no_cpu = false;
+};
+
+/// A folder of this process inside `parent`, removed with what is left in it when it goes.
+class ScratchFolder {
+ public:
+  explicit ScratchFolder(const std::string& parent) {
+    const std::filesystem::path base = parent.empty() ? std::filesystem::temp_directory_path() : std::filesystem::path(parent);
+    path_ = base / ("tear-bench-io." + std::to_string(::getpid()));
+    std::error_code error;
+    std::filesystem::create_directories(path_, error);
+    if (error) throw runtime_error(path_.string() + ": cannot create the benchmark's folder: " + error.message());
+  }
+  ~ScratchFolder() {
+    std::error_code ignored;
+    std::filesystem::remove_all(path_, ignored);
+  }
+  ScratchFolder(const ScratchFolder&) = delete;
+  ScratchFolder& operator=(const ScratchFolder&) = delete;
+  std::string path() const { return path_.string(); }
+
+ private:
+  std::filesystem::path path_;
 };
 
 double mib(std::size_t bytes) { return double(bytes) / (1 << 20); }
@@ -59,6 +86,13 @@ void print_tear_row(const TearBenchRow& r, const TearBenchRow* cpu) {
   std::printf("\n");
 }
 
+void print_io_row(const IoBenchRow& r) {
+  const double mb = double(r.bytes) * 1e-6;
+  std::printf("%10d  %-6s  %9.1f  %9.3f  %9.3f  %9.3f  %9.0f  %9.0f\n", r.faces, r.format.c_str(), mb, r.encode_ms,
+              r.write_ms, r.read_ms, r.encode_ms > 0 ? mb / (r.encode_ms * 1e-3) : 0.0,
+              r.read_ms > 0 ? mb / (r.read_ms * 1e-3) : 0.0);
+}
+
 /// Runs one part size by size: `run(options of one size, device)` gives the size's row, printed
 /// (after the CPU's, with the ratio, when `with_cpu`) and returned with the CPU's in the JSON rows.
 template <class Run, class Print>
@@ -91,8 +125,8 @@ bool wanted(const BenchArgs& args, const std::string& part) {
 
 void run_bench(const BenchArgs& args) {
   for (const std::string& part : args.only)
-    if (part != "remesh" && part != "pd" && part != "scene" && part != "tear")
-      throw Error(ErrorKind::usage, "--only " + part + ": expected remesh, pd, scene or tear");
+    if (part != "remesh" && part != "pd" && part != "scene" && part != "tear" && part != "io")
+      throw Error(ErrorKind::usage, "--only " + part + ": expected remesh, pd, scene, tear or io");
   const Device device = select_device(args.device);
   const bool with_cpu = device == Device::cuda && !args.no_cpu;
   BenchOptions options;
@@ -198,6 +232,26 @@ void run_bench(const BenchArgs& args) {
     doc["tear"] = rows;
   }
 
+  if (wanted(args, "io")) {
+    const ScratchFolder folder(args.io_folder);
+    std::printf("\nio: a cloth's frame (UVs, normals, velocities, ids, origins) encoded, written atomically "
+                "(flushed to the disk) and read back in %s\n", folder.path().c_str());
+    std::printf("%10s  %-6s  %9s  %9s  %9s  %9s  %9s  %9s\n", "faces", "format", "MB", "encode", "write", "read",
+                "enc MB/s", "read MB/s");
+    std::fflush(stdout);
+    nlohmann::json rows = nlohmann::json::array();
+    for (index_t faces : options.face_counts) {
+      BenchOptions one = options;
+      one.face_counts = {faces};
+      for (const IoBenchRow& row : run_io_bench(one, folder.path())) {
+        print_io_row(row);
+        rows.push_back(nlohmann::json::parse(to_json(row)));
+      }
+      std::fflush(stdout);
+    }
+    doc["io"] = rows;
+  }
+
   if (!args.json_path.empty()) write_file_atomically(args.json_path, doc.dump(2) + "\n");
 }
 }  // namespace
@@ -206,14 +260,15 @@ void add_bench_command(CLI::App& app) {
   auto args = std::make_shared<BenchArgs>();
   CLI::App* cmd = app.add_subcommand("bench", "Benchmark the remesher and the solver on generated sheets");
   cmd->footer(
-      "Four parts. remesh: each size is an irregular sheet (the paper's Table 1 sizes, then powers of two up "
+      "Five parts. remesh: each size is an irregular sheet (the paper's Table 1 sizes, then powers of two up "
       "to 4M faces) cut once by a zigzag of 16 segments, a fresh copy each run; stage columns come from "
       "separate runs with a device synchronisation after each stage. pd: one solver step of --iterations "
       "iterations on each size, with the traffic floor at the measured copy bandwidth. scene: the paper's "
       "scene (tear demo) at its three resolutions with --iterations iterations per frame, in memory. tear: the "
       "pull scene (tear demo --scene pull) at the same resolutions with its own solver settings, in memory: "
       "the substeps, deciding where to tear, laying the cracks and rebuilding the solver's model, per frame, "
-      "and tearing's share of the solver's time. Times "
+      "and tearing's share of the solver's time. io: at each size a cloth's frame encoded, written atomically "
+      "and read back in OBJ, PLY, glTF and GLB, on the host (no backend). Times "
       "are medians in milliseconds; on the GPU the CPU backend of the same binary runs too, for the cpu/gpu "
       "ratio. No time is asserted.");
   add_device_option(*cmd, args->device);
@@ -224,8 +279,11 @@ void add_bench_command(CLI::App& app) {
       ->check(CLI::Range(1, 100000));
   cmd->add_option("--resolutions", args->resolutions, "Resolutions of the scene part: low, medium, high (comma separated)")
       ->delimiter(',');
-  cmd->add_option("--only", args->only, "Run only these parts: remesh, pd, scene, tear (comma separated)")->delimiter(',');
+  cmd->add_option("--only", args->only, "Run only these parts: remesh, pd, scene, tear, io (comma separated)")->delimiter(',');
   cmd->add_option("--json", args->json_path, "Also write every number to this JSON file");
+  cmd->add_option("--io-folder", args->io_folder,
+                  "Folder the io part writes its files in (a folder of its own inside, removed after; default: "
+                  "the system's temporary folder)");
   cmd->add_flag("--no-cpu", args->no_cpu, "On the GPU, skip the CPU-backend comparison");
   cmd->callback([args] { run_bench(*args); });
 }

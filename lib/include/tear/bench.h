@@ -95,6 +95,18 @@ struct TearBenchRow {
   double tear_fraction = 0;
 };
 
+/// A frame written and read back in one format, the way `tear run` writes it: the mesh of a cloth
+/// (`Cloth::mesh` on the CPU: UVs, normals, velocities, ids and origins) of an irregular sheet.
+/// Medians over the repeats, milliseconds.
+struct IoBenchRow {
+  index_t faces = 0;
+  std::string format;       ///< "obj", "ply", "gltf" or "glb"
+  std::size_t bytes = 0;    ///< the file's size
+  double encode_ms = 0;     ///< `encode_mesh` into a kept buffer
+  double write_ms = 0;      ///< `write_file_atomically`: written, flushed to the disk and renamed
+  double read_ms = 0;       ///< `read_mesh` of the file, its checks included
+};
+
 /// Copy bandwidth of `device`'s memory: bytes read plus bytes written per second by a copy of a
 /// 256 MiB buffer (larger than any cache), the best of 10.
 double measure_copy_bandwidth(Device device);
@@ -104,6 +116,10 @@ std::vector<SceneBenchRow> run_scene_bench(const BenchOptions& options, Device d
 /// The pull scene at each of `options.resolutions` (`options.iterations` is not used: the scene
 /// keeps its own solver settings).
 std::vector<TearBenchRow> run_tear_bench(const BenchOptions& options, Device device);
+
+/// Every format at every size of `options.face_counts`, written in `folder` (which must exist; the
+/// files are removed after each size).
+std::vector<IoBenchRow> run_io_bench(const BenchOptions& options, const std::string& folder);
 
 /// The zigzag cut of the benchmark: `segments` segments across the unit sheet, in rest-xy.
 CutLine bench_cut(int segments);
@@ -117,5 +133,6 @@ std::string to_json(const BenchRow& row);
 std::string to_json(const PdBenchRow& row);
 std::string to_json(const SceneBenchRow& row);
 std::string to_json(const TearBenchRow& row);
+std::string to_json(const IoBenchRow& row);
 
 }  // namespace tear

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <filesystem>
+#include <system_error>
 
 #include <nlohmann/json.hpp>
 
@@ -9,8 +11,10 @@
 #include "tear/demo_scene.h"
 #include "tear/error.h"
 #include "tear/make_sheet.h"
+#include "tear/read_mesh.h"
 #include "tear/run_cuts.h"
 #include "tear/simulation.h"
+#include "tear/write_mesh.h"
 
 namespace tear {
 
@@ -222,6 +226,54 @@ std::vector<TearBenchRow> run_tear_bench(const BenchOptions& options, Device dev
   return rows;
 }
 
+std::vector<IoBenchRow> run_io_bench(const BenchOptions& options, const std::string& folder) {
+  using Clock = std::chrono::steady_clock;
+  const auto ms_since = [](Clock::time_point start) {
+    return std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+  };
+  std::vector<IoBenchRow> rows;
+  for (index_t faces : options.face_counts) {
+    SheetOptions sheet;
+    sheet.face_count = faces;
+    const Mesh frame = Cloth(make_sheet(sheet), Device::cpu).mesh();
+    for (const MeshFormat format : {MeshFormat::obj, MeshFormat::ply, MeshFormat::gltf, MeshFormat::glb}) {
+      const char* name = format == MeshFormat::obj ? "obj" : format == MeshFormat::ply ? "ply" : format == MeshFormat::gltf ? "gltf" : "glb";
+      const std::string path = (std::filesystem::path(folder) / ("frame." + std::string(name))).string();
+      std::vector<double> encode, write, read;
+      std::string bytes;
+      for (int run = 0; run < options.warmup + options.repeats; ++run) {
+        Clock::time_point start = Clock::now();
+        encode_mesh(frame, path, format, bytes);
+        const double encoded = ms_since(start);
+        start = Clock::now();
+        write_file_atomically(path, bytes);
+        const double written = ms_since(start);
+        start = Clock::now();
+        const Mesh back = read_mesh(path);
+        const double read_back = ms_since(start);
+        if (back.face_count() != frame.face_count())
+          throw runtime_error(path + ": read back " + std::to_string(back.face_count()) + " faces, wrote " +
+                              std::to_string(frame.face_count()));
+        if (run < options.warmup) continue;
+        encode.push_back(encoded);
+        write.push_back(written);
+        read.push_back(read_back);
+      }
+      std::error_code ignored;
+      std::filesystem::remove(path, ignored);
+      IoBenchRow row;
+      row.faces = faces;
+      row.format = name;
+      row.bytes = bytes.size();
+      row.encode_ms = median(encode);
+      row.write_ms = median(write);
+      row.read_ms = median(read);
+      rows.push_back(row);
+    }
+  }
+  return rows;
+}
+
 std::string to_json(const PdBenchRow& row) {
   return json_text({{"faces", row.faces},
           {"nodes", row.nodes},
@@ -254,6 +306,11 @@ std::string to_json(const TearBenchRow& row) {
                     {"solver_ms", row.solver_ms},       {"check_ms", row.check_ms},
                     {"apply_ms", row.apply_ms},         {"rebuild_ms", row.rebuild_ms},
                     {"tear_fraction", row.tear_fraction}});
+}
+
+std::string to_json(const IoBenchRow& row) {
+  return json_text({{"faces", row.faces},       {"format", row.format},       {"bytes", row.bytes},
+                    {"encode_ms", row.encode_ms}, {"write_ms", row.write_ms}, {"read_ms", row.read_ms}});
 }
 
 std::string to_json(const BenchRow& row) {
