@@ -116,6 +116,25 @@ nlohmann::json run_sizes(const BenchOptions& options, Device device, bool with_c
   return rows;
 }
 
+/// Prints and collects the rows of a part run on `device` and, when `with_cpu`, on the CPU too
+/// (each CPU row first, then the device's with the ratio).
+template <class Row, class Run, class Print>
+nlohmann::json run_paired(Device device, bool with_cpu, Run run, Print print) {
+  const std::vector<Row> gpu = run(device);
+  std::vector<Row> cpu;
+  if (with_cpu) cpu = run(Device::cpu);
+  nlohmann::json rows = nlohmann::json::array();
+  for (std::size_t i = 0; i < gpu.size(); ++i) {
+    if (with_cpu) {
+      print(cpu[i], nullptr);
+      rows.push_back(nlohmann::json::parse(to_json(cpu[i])));
+    }
+    print(gpu[i], with_cpu ? &cpu[i] : nullptr);
+    rows.push_back(nlohmann::json::parse(to_json(gpu[i])));
+  }
+  return rows;
+}
+
 bool wanted(const BenchArgs& args, const std::string& part) {
   if (args.only.empty()) return true;
   for (const std::string& p : args.only)
@@ -196,19 +215,8 @@ void run_bench(const BenchArgs& args) {
     std::printf("%-7s  %8s  %8s  %-4s  %9s  %9s  %10s  %12s%s\n", "size", "faces", "at end", "dev", "mean", "max",
                 "remesh", "simulation", with_cpu ? "  cpu/gpu" : "");
     std::fflush(stdout);
-    const std::vector<SceneBenchRow> gpu = run_scene_bench(options, device);
-    std::vector<SceneBenchRow> cpu;
-    if (with_cpu) cpu = run_scene_bench(options, Device::cpu);
-    nlohmann::json rows = nlohmann::json::array();
-    for (std::size_t i = 0; i < gpu.size(); ++i) {
-      if (with_cpu) {
-        print_scene_row(cpu[i], nullptr);
-        rows.push_back(nlohmann::json::parse(to_json(cpu[i])));
-      }
-      print_scene_row(gpu[i], with_cpu ? &cpu[i] : nullptr);
-      rows.push_back(nlohmann::json::parse(to_json(gpu[i])));
-    }
-    doc["scene"] = rows;
+    doc["scene"] = run_paired<SceneBenchRow>(
+        device, with_cpu, [&](Device d) { return run_scene_bench(options, d); }, print_scene_row);
   }
 
   if (wanted(args, "tear")) {
@@ -217,19 +225,8 @@ void run_bench(const BenchArgs& args) {
     std::printf("%-7s  %8s  %8s  %-4s  %7s  %9s  %9s  %8s  %8s  %8s  %8s%s\n", "size", "faces", "at end", "dev", "torn",
                 "frame", "solver", "check", "apply", "rebuild", "tear/sol", with_cpu ? "  cpu/gpu" : "");
     std::fflush(stdout);
-    const std::vector<TearBenchRow> gpu = run_tear_bench(options, device);
-    std::vector<TearBenchRow> cpu;
-    if (with_cpu) cpu = run_tear_bench(options, Device::cpu);
-    nlohmann::json rows = nlohmann::json::array();
-    for (std::size_t i = 0; i < gpu.size(); ++i) {
-      if (with_cpu) {
-        print_tear_row(cpu[i], nullptr);
-        rows.push_back(nlohmann::json::parse(to_json(cpu[i])));
-      }
-      print_tear_row(gpu[i], with_cpu ? &cpu[i] : nullptr);
-      rows.push_back(nlohmann::json::parse(to_json(gpu[i])));
-    }
-    doc["tear"] = rows;
+    doc["tear"] = run_paired<TearBenchRow>(
+        device, with_cpu, [&](Device d) { return run_tear_bench(options, d); }, print_tear_row);
   }
 
   if (wanted(args, "io")) {

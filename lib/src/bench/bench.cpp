@@ -22,6 +22,13 @@ namespace {
 /// Device names come from drivers: replace bytes that are not UTF-8 rather than fail on them.
 std::string json_text(const nlohmann::json& j) { return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace); }
 
+/// The median of `runs` by mean frame time (the scene and tear parts' rows).
+template <class Row>
+Row median_run(std::vector<Row> runs) {
+  std::sort(runs.begin(), runs.end(), [](const Row& a, const Row& b) { return a.frame_ms_mean < b.frame_ms_mean; });
+  return runs[runs.size() / 2];
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v.size() % 2 ? v[v.size() / 2] : 0.5 * (v[v.size() / 2 - 1] + v[v.size() / 2]);
@@ -178,9 +185,7 @@ std::vector<SceneBenchRow> run_scene_bench(const BenchOptions& options, Device d
       row.frame_ms_mean = row.frames > 0 ? total / row.frames : 0;
       if (run >= options.warmup) runs.push_back(row);
     }
-    std::sort(runs.begin(), runs.end(),
-              [](const SceneBenchRow& a, const SceneBenchRow& b) { return a.frame_ms_mean < b.frame_ms_mean; });
-    rows.push_back(runs[runs.size() / 2]);
+    rows.push_back(median_run(std::move(runs)));
   }
   return rows;
 }
@@ -219,9 +224,7 @@ std::vector<TearBenchRow> run_tear_bench(const BenchOptions& options, Device dev
       if (row.solver_ms > 0) row.tear_fraction = (row.check_ms + row.apply_ms + row.rebuild_ms) / row.solver_ms;
       if (run >= options.warmup) runs.push_back(row);
     }
-    std::sort(runs.begin(), runs.end(),
-              [](const TearBenchRow& a, const TearBenchRow& b) { return a.frame_ms_mean < b.frame_ms_mean; });
-    rows.push_back(runs[runs.size() / 2]);
+    rows.push_back(median_run(std::move(runs)));
   }
   return rows;
 }

@@ -325,7 +325,10 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
   thrust::copy(policy, node_rest.begin(), node_rest.end(), node_pos_.begin());
   bool keyed_pins = false;
   for (const Pin& p : options_.pins) keyed_pins = keyed_pins || !p.keys.empty();
-  if (keyed_pins) node_rest_ = node_rest;
+  if (keyed_pins) {  // into the kept array: a rebuild after every tear would allocate it again
+    resize_with_headroom(node_rest_, node_rest.size());
+    thrust::copy(policy, node_rest.begin(), node_rest.end(), node_rest_.begin());
+  }
   if (keyed_) {
     const std::size_t substeps = static_cast<std::size_t>(options_.substeps);
     frame_pin_motion_.resize(substeps * pin_motion_.size());
