@@ -61,12 +61,28 @@ struct FaceCorners {
 };
 
 /// Sorts run n of a CSR ascending (insertion sort: runs are a node's valence long). For node→faces,
-/// a face that repeats the node appears once per corner, adjacent after the sort.
+/// a face that repeats the node appears once per corner, adjacent after the sort. A run of up to
+/// `local_capacity` values is loaded at once (independent loads), sorted in the thread's own memory
+/// and stored: sorting in place, each step would wait for a load of what the step before stored.
 struct sort_runs {
+  static constexpr int local_capacity = 32;
   const index_t* offset;
   index_t* values;
   TEAR_HD void operator()(index_t n) const {
     const index_t begin = offset[n], end = offset[n + 1];
+    if (end - begin <= local_capacity) {
+      index_t run[local_capacity];
+      const int size = static_cast<int>(end - begin);
+      for (int i = 0; i < size; ++i) run[i] = values[begin + i];
+      for (int i = 1; i < size; ++i) {
+        const index_t v = run[i];
+        int j = i;
+        for (; j > 0 && run[j - 1] > v; --j) run[j] = run[j - 1];
+        run[j] = v;
+      }
+      for (int i = 0; i < size; ++i) values[begin + i] = run[i];
+      return;
+    }
     for (index_t i = begin + 1; i < end; ++i) {
       const index_t v = values[i];
       index_t j = i;
@@ -117,7 +133,7 @@ struct NodeEdge {
 /// Holds up to `capacity` edges; a node with more sets `overflow`, and the caller enumerates them
 /// with `next_edge_end` and `edge_to` instead (slower: one pass over the faces per edge).
 struct NodeEdgeList {
-  static constexpr int capacity = 8;
+  static constexpr int capacity = 16;
   int size = 0;
   bool overflow = false;
   NodeEdge edge[capacity];

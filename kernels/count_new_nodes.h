@@ -12,6 +12,10 @@ struct count_node_copies {
   SectorMesh mesh;
   index_t* node_extra_count;
   TEAR_HD void operator()(index_t n) const {
+    if (node_uncut(mesh, n)) {  // most nodes, away from the cuts: one sector, no walk
+      node_extra_count[n] = 0;
+      return;
+    }
     count_sectors c;
     const bool closed = walk_node(mesh, n, c);
     node_extra_count[n] = c.sectors(closed) - 1;

@@ -19,6 +19,15 @@ struct map_node_copies {
   TEAR_HD void operator()(index_t n) const {
     const index_t extra = node_extra_offset[n + 1] - node_extra_offset[n];
     assign_copies a{face_tri_offset, new_face_nodes, n, old_node_count + node_extra_offset[n], extra + 1};
+    if (extra == 0) {
+      // One sector: every corner gets copy 0, whatever the order, so the faces are visited as
+      // listed instead of walked in turn (the walk's loads wait on each other).
+      for (index_t i = mesh.node_face_offset[n]; i < mesh.node_face_offset[n + 1]; ++i) {
+        const index_t f = mesh.node_faces[i];
+        walk_face_fan(mesh, f, corner_of(mesh.face_nodes, f, n), a);
+      }
+      return;
+    }
     walk_node(mesh, n, a);
   }
 };

@@ -80,12 +80,6 @@ TEAR_HD inline double face_principal_stretch(const index_t* face_nodes, const fl
   return lambda > 0 ? sqrt(lambda) : 0;
 }
 
-/// A stretch over `limit`: counted, the faces that may tear.
-struct is_over_limit {
-  double limit;
-  TEAR_HD bool operator()(double stretch) const { return stretch > limit; }
-};
-
 /// Per face: its stretch.
 struct write_face_stretch {
   const index_t* face_nodes;

@@ -48,6 +48,20 @@ TEAR_HD inline void walk_face_fan(const SectorMesh& m, index_t f, int slot, Visi
   }
 }
 
+/// True when no cut line meets node n: no split of its faces has a cut in the node's fan, and no
+/// edge at it carries a cut line along its half at n. Its walk would cross no cut (one sector);
+/// finding so takes loads that do not wait on each other, where the walk is a chain of them.
+TEAR_HD inline bool node_uncut(const SectorMesh& m, index_t n) {
+  for (index_t i = m.node_face_offset[n]; i < m.node_face_offset[n + 1]; ++i) {
+    const index_t f = m.node_faces[i];
+    const int k = corner_of(m.face_nodes, f, n);
+    if (split_case(m.table, m.face_state[f]).fan_cut[k]) return false;
+    if (edge_half_cut(m, m.face_edges[3 * f + (k + 1) % 3], n) || edge_half_cut(m, m.face_edges[3 * f + (k + 2) % 3], n))
+      return false;
+  }
+  return true;
+}
+
 /// Walks around node n. Returns true when the walk is closed (an interior node).
 template <class Visitor>
 TEAR_HD inline bool walk_node(const SectorMesh& m, index_t n, Visitor& visit) {

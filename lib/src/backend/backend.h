@@ -7,14 +7,18 @@
 // __CUDACC__ itself.
 #pragma once
 
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
+#include <cstring>
 #include <new>
+#include <type_traits>
 #include <vector>
 
 #include <thrust/copy.h>
 #include <thrust/detail/config.h>
+#include <thrust/fill.h>
 #include <thrust/system/omp/execution_policy.h>
 #include <thrust/system/omp/vector.h>
 
@@ -79,13 +83,47 @@ struct CountingAllocator : Base, VectorSystem<device> {
   bool operator!=(const CountingAllocator&) const { return false; }
 };
 
+/// A backend's vector: Thrust's (whose `resize` writes every new element, a launch of its own on
+/// CUDA), with `resize_for_overwrite`, which leaves new elements unwritten for arrays that a stage
+/// then writes whole. A cloth grows with every tear, and every stage array with it: through
+/// Thrust's resize each would cost a launch per tear for values nobody reads.
+template <class Base>
+class Vector : public Base {
+ public:
+  using Base::Base;
+  using Base::operator=;
+  Vector() = default;
+
+  /// Resizes to `n` elements; those past the old size hold whatever the memory held.
+  void resize_for_overwrite(std::size_t n) {
+    static_assert(std::is_trivially_copyable<typename Base::value_type>::value &&
+                      std::is_trivially_destructible<typename Base::value_type>::value,
+                  "only for plain values");
+    if (n > this->capacity()) this->reserve(n);
+    const std::size_t old = this->size();
+    this->m_size = static_cast<typename Base::size_type>(n);
+#if TEAR_POISON_GROWN
+    // Sanitizer builds: what a stage leaves unwritten is garbage the tests see (a NaN, an index out
+    // of range), not the zero that fresh memory often holds.
+    using T = typename Base::value_type;
+    if (n > old) {
+      T poison;
+      std::memset(&poison, std::is_floating_point<T>::value ? 0xFF : 0xA5, sizeof poison);
+      thrust::fill(this->begin() + static_cast<std::ptrdiff_t>(old), this->end(), poison);
+    }
+#else
+    static_cast<void>(old);
+#endif
+  }
+};
+
 template <class System>
 struct Traits;
 
 template <>
 struct Traits<Omp> {
   template <class T>
-  using vector = thrust::omp::vector<T, CountingAllocator<T, thrust::omp::allocator<T>, Device::cpu>>;
+  using vector = Vector<thrust::omp::vector<T, CountingAllocator<T, thrust::omp::allocator<T>, Device::cpu>>>;
   static auto policy() { return thrust::omp::par; }
   /// The policy for stages given a temporary allocator: on the CPU, Thrust's own (malloc is cheap,
   /// and the OpenMP algorithms may allocate from several threads at once, which the caching
@@ -104,6 +142,11 @@ struct Traits<Omp> {
     std::free(p);
     count_release(Device::cpu, n);
   }
+  /// Host memory that backend memory is copied into without waiting (`ReadBack`): plain memory,
+  /// and the copy is done when it returns.
+  static void* allocate_staging(std::size_t n) { return std::malloc(n); }
+  static void free_staging(void* p) { std::free(p); }
+  static void copy_to_staging(void* host, const void* from, std::size_t n) { std::memcpy(host, from, n); }
 };
 
 #if TEAR_CUDA_SYSTEM
@@ -181,7 +224,7 @@ struct PoolBytes {
 template <>
 struct Traits<Cuda> {
   template <class T>
-  using vector = thrust::cuda::vector<T, CountingAllocator<T, PoolAllocator<T>, Device::cuda>>;
+  using vector = Vector<thrust::cuda::vector<T, CountingAllocator<T, PoolAllocator<T>, Device::cuda>>>;
   // Stages queue on the default stream without waiting; reading a result back (a count, a total)
   // is what synchronises, so a cut waits only where it needs a number on the host. Thrust's own
   // temporary storage (reductions, scans) comes from the same pool as the vectors, in stream order:
@@ -207,20 +250,39 @@ struct Traits<Cuda> {
     cudaFree(p);
     count_release(Device::cuda, n);
   }
+  /// Page-locked host memory: a copy into it is queued on the default stream behind the stages
+  /// and the host goes on (into pageable memory the copy would wait for the device first).
+  static void* allocate_staging(std::size_t n) {
+    void* p = nullptr;
+    if (cudaMallocHost(&p, n) != cudaSuccess) {
+      cudaGetLastError();
+      return nullptr;
+    }
+    return p;
+  }
+  static void free_staging(void* p) { cudaFreeHost(p); }
+  static void copy_to_staging(void* host, const void* from, std::size_t n) {
+    const cudaError_t status = cudaMemcpyAsync(host, from, n, cudaMemcpyDeviceToHost, 0);
+    if (status != cudaSuccess) {
+      cudaGetLastError();
+      throw std::bad_alloc();
+    }
+  }
 };
 #endif
 
 template <class System, class T>
 using vector = typename Traits<System>::template vector<T>;
 
-/// Resizes `v` to `n` elements. When an allocated vector must grow, its capacity becomes n plus an
-/// eighth (Thrust's own resize would double it): a cloth grows a little with every cut, and its
-/// arrays should neither be reallocated every cut nor hold twice what they need. An empty one gets
-/// exactly n.
-template <class Vector>
-void resize_with_headroom(Vector& v, std::size_t n) {
+/// Resizes `v` to `n` elements for its stage to write them all: new elements are left unwritten
+/// (`Vector::resize_for_overwrite`). When an allocated vector must grow, its capacity becomes n
+/// plus an eighth (Thrust's own resize would double it): a cloth grows a little with every cut, and
+/// its arrays should neither be reallocated every cut nor hold twice what they need. An empty one
+/// gets exactly n.
+template <class V>
+void resize_for_overwrite(V& v, std::size_t n) {
   if (n > v.capacity()) v.reserve(v.capacity() > 0 ? n + n / 8 : n);
-  v.resize(n);
+  v.resize_for_overwrite(n);
 }
 
 /// Copies between the host and a backend's vectors. Thrust's copy of an empty range still forms a
@@ -244,6 +306,61 @@ void assign_from_host(Vector& v, const HostRange& host) {
   else
     v.assign(host.begin(), host.end());
 }
+
+/// Small values read back from the backend together: each `queue` copies values from backend
+/// memory behind the stages queued so far, without waiting, and one `wait` then makes them all
+/// readable. A cut reads its totals this way, one wait instead of one per value. Offsets, not
+/// pointers, name what was queued: the staging memory may move when it grows.
+template <class System>
+class ReadBack {
+ public:
+  ReadBack() = default;
+  ReadBack(const ReadBack&) = delete;
+  ReadBack& operator=(const ReadBack&) = delete;
+  ~ReadBack() {
+    if (data_) Traits<System>::free_staging(data_);
+  }
+
+  /// Starts a new batch (what was queued before is forgotten).
+  void clear() { used_ = 0; }
+
+  /// Queues a copy of `count` values at backend address `from`; returns the offset `at` takes.
+  template <class T>
+  std::size_t queue(const T* from, std::size_t count) {
+    const std::size_t offset = (used_ + alignof(std::max_align_t) - 1) / alignof(std::max_align_t) * alignof(std::max_align_t);
+    const std::size_t bytes = count * sizeof(T);
+    if (offset + bytes > capacity_) grow(offset + bytes);
+    if (bytes > 0) Traits<System>::copy_to_staging(data_ + offset, from, bytes);
+    used_ = offset + bytes;
+    return offset;
+  }
+
+  /// Waits for the copies queued (and everything queued on the backend before them).
+  void wait() const { Traits<System>::synchronize(); }
+
+  /// The values queued at `offset`, after `wait`.
+  template <class T>
+  const T* at(std::size_t offset) const {
+    return reinterpret_cast<const T*>(data_ + offset);
+  }
+
+ private:
+  void grow(std::size_t bytes) {
+    const std::size_t capacity = std::max<std::size_t>(2 * capacity_, std::max<std::size_t>(bytes, 4096));
+    char* next = static_cast<char*>(Traits<System>::allocate_staging(capacity));
+    if (!next) throw std::bad_alloc();
+    if (data_) {
+      wait();  // the copies already queued land in the old memory
+      std::memcpy(next, data_, used_);
+      Traits<System>::free_staging(data_);
+    }
+    data_ = next;
+    capacity_ = capacity;
+  }
+
+  char* data_ = nullptr;
+  std::size_t capacity_ = 0, used_ = 0;
+};
 
 template <class T, class Vector>
 T* raw(Vector& v) {

@@ -335,11 +335,11 @@ class ClothEngine final : public Cloth::Engine {
     const bool over = remesher_.cut_info_from_strain(cloth_, options_.tearing, cut_options, torn, clock);
     const Clock::time_point checked = Clock::now();
     last_tear_.check_ms += std::chrono::duration<double, std::milli>(checked - start).count();
-    if (over && remesher_.apply_cut_info(cloth_, cut_options, stats, clock)) {
+    if (over && remesher_.apply_cut_info(cloth_, cut_options, stats, clock, false)) {
       solver_stale_ = true;
       reapply_box_pins();
       last_tear_.events += torn.faces;
-      last_tear_.length += torn.length;
+      last_tear_.length += remesher_.tear_length();
     }
     if (over) {
       Traits<System>::synchronize();

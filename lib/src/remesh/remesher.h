@@ -83,6 +83,7 @@ struct CutInfo {
 
 /// What `cut_info_from_strain` tears: the faces it cracks and the cracks' rest length (metres,
 /// before snapping: the segments through the chosen faces and on into the faces across them).
+/// The length is `Remesher::tear_length`'s, read back with the cut's counts.
 struct TearCut {
   index_t faces = 0;
   double length = 0;
@@ -101,14 +102,21 @@ class Remesher {
                            const CutOptions& options, StageClock& clock);
 
   /// §2.1 for tearing: cracks through the faces stretched beyond `tearing.stretch`, chosen and laid
-  /// as `kernels/tear_cracks.h` says. Returns false when no face is over the limit (a pass writing
-  /// the stretches, a count of them and its read-back).
+  /// as `kernels/tear_cracks.h` says. Returns false when no face tears (a pass writing the
+  /// stretches, one choosing the faces, their compaction and the read-back of its count). Sets
+  /// `torn.faces`; the cracks' length is read back later, with the cut's counts (`tear_length`).
   bool cut_info_from_strain(const DeviceCloth<System>& cloth, const TearingOptions& tearing, const CutOptions& options,
                             TearCut& torn, StageClock& clock);
 
+  /// The rest length of the cracks `cut_info_from_strain` laid last, summed in rank order (the same
+  /// sum every run); waits for them when `apply_cut_info` has not.
+  double tear_length();
+
   /// §2.2–2.4: applies the cut info to `cloth` in place. Returns false when it splits nothing (the
-  /// cloth is left as it was).
-  bool apply_cut_info(DeviceCloth<System>& cloth, const CutOptions& options, CutStats& stats, StageClock& clock);
+  /// cloth is left as it was). With `summary` false, `stats`' counts of edge points, cut edges and
+  /// face points are left alone (a reduction and a read-back fewer: tearing has no use for them).
+  bool apply_cut_info(DeviceCloth<System>& cloth, const CutOptions& options, CutStats& stats, StageClock& clock,
+                      bool summary = true);
 
   CutProvenance provenance() const {
     CutProvenance p;
@@ -150,6 +158,9 @@ class Remesher {
 
   TopologyScratch<System> topo_scratch_;
   TemporaryAllocator<System> alloc_;  // Thrust's sort and scan buffers, reused cut after cut
+  ReadBack<System> read_back_;        // a cut's totals (and a tear's crack lengths), read in one wait
+  std::size_t crack_lengths_at_ = 0;  // where in `read_back_` the last tear's lengths are
+  index_t crack_count_ = 0;           //   and how many
   vec<kernels::SplitCase> table_;
 
   // The frame's cuts.
@@ -239,15 +250,17 @@ bool Remesher<System>::cut_info_from_paths(const DeviceCloth<System>& cloth, con
   using namespace kernels;
   const auto& topo = cloth.topo;
   const index_t f_count = topo.face_count;
+  read_back_.clear();
+  crack_count_ = 0;
   upload_cuts(cuts);
   if (cut_paths_.empty() || f_count == 0) return false;
   const bool has_uv = !cloth.corner_uv.empty();
 
   // Every cut against every face, one averaged and snapped point per edge, then the 6-bit face cut
   // info (with the face point where lines cross) and the 2-bit edge cut info.
-  resize_with_headroom(half_hit_sum_, 3 * std::size_t(f_count));
-  resize_with_headroom(half_hit_count_, 3 * std::size_t(f_count));
-  resize_with_headroom(face_pairs_, f_count);
+  resize_for_overwrite(half_hit_sum_, 3 * std::size_t(f_count));
+  resize_for_overwrite(half_hit_count_, 3 * std::size_t(f_count));
+  resize_for_overwrite(face_pairs_, f_count);
   for_each_index(f_count, intersect_cuts{raw<index_t>(cloth.face_nodes), has_uv ? raw<float>(cloth.corner_uv) : nullptr,
                                          raw<float>(cloth.node_rest), raw<float>(cloth.node_pos), raw<CutPath>(cut_paths_),
                                          static_cast<index_t>(cut_paths_.size()), raw<double>(cut_point_x_),
@@ -263,29 +276,29 @@ bool Remesher<System>::cut_info_from_strain(const DeviceCloth<System>& cloth, co
                                             const CutOptions& options, TearCut& torn, StageClock& clock) {
   using namespace kernels;
   torn = TearCut{};
+  read_back_.clear();
+  crack_count_ = 0;
   const auto& topo = cloth.topo;
   const index_t f_count = topo.face_count;
   if (!tearing.enabled() || f_count == 0) return false;
   const auto policy = Traits<System>::policy(alloc_);
   const thrust::counting_iterator<index_t> zero(0);
-  // Each face's stretch written, then the faces over the limit counted from it: one pass of the
-  // stretch (a reduction computing it inline runs it on a few threads each, several times slower
-  // on a GPU) and the kept stretches serve the choice below.
-  resize_with_headroom(face_stretch_, f_count);
+  // Each face's stretch written in one pass (computed inline in the choice below, each face's
+  // would be computed again by every neighbour).
+  resize_for_overwrite(face_stretch_, f_count);
   for_each_index(f_count, write_face_stretch{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
                                              raw<float>(cloth.node_pos), raw<double>(face_stretch_)});
-  const auto over = thrust::count_if(policy, face_stretch_.begin(), face_stretch_.begin() + f_count,
-                                     is_over_limit{tearing.stretch});
-  if (over == 0) return false;
 
   // The faces that tear: over the limit and first among the faces sharing a node with them, at
   // most `max_faces_per_step` of them (by rank). No order depends on the threads: the choice is a
   // comparison of each face with its neighbours, the compaction is stable and the rank a total order.
-  resize_with_headroom(face_chosen_, f_count);
+  // A face under the limit looks at no neighbour, so where nothing is over the limit this costs
+  // what a count of the faces over it would, and the compaction's count is the one read-back.
+  resize_for_overwrite(face_chosen_, f_count);
   for_each_index(f_count, choose_tearing_faces{raw<index_t>(cloth.face_nodes), raw<index_t>(topo.node_face_offset),
                                                raw<index_t>(topo.node_faces), raw<double>(face_stretch_),
                                                tearing.stretch, raw<std::uint8_t>(face_chosen_)});
-  resize_with_headroom(tear_faces_, f_count);
+  resize_for_overwrite(tear_faces_, f_count);
   const auto chosen_end =
       thrust::copy_if(policy, zero, zero + f_count, tear_faces_.begin(), is_chosen{raw<std::uint8_t>(face_chosen_)});
   index_t count = static_cast<index_t>(chosen_end - tear_faces_.begin());
@@ -296,13 +309,13 @@ bool Remesher<System>::cut_info_from_strain(const DeviceCloth<System>& cloth, co
   if (count == 0) return false;
 
   // The cracks as crossings, as `intersect_cuts` writes a cut's.
-  resize_with_headroom(half_hit_sum_, 3 * std::size_t(f_count));
-  resize_with_headroom(half_hit_count_, 3 * std::size_t(f_count));
-  resize_with_headroom(face_pairs_, f_count);
+  resize_for_overwrite(half_hit_sum_, 3 * std::size_t(f_count));
+  resize_for_overwrite(half_hit_count_, 3 * std::size_t(f_count));
+  resize_for_overwrite(face_pairs_, f_count);
   thrust::fill(policy, half_hit_sum_.begin(), half_hit_sum_.end(), 0.0);
   thrust::fill(policy, half_hit_count_.begin(), half_hit_count_.end(), index_t(0));
   thrust::fill(policy, face_pairs_.begin(), face_pairs_.end(), std::uint16_t(0));
-  resize_with_headroom(crack_length_, count);
+  resize_for_overwrite(crack_length_, count);
   for_each_index(
       count,
       write_cracks{raw<index_t>(tear_faces_), raw<index_t>(cloth.face_nodes), raw<index_t>(topo.face_edges),
@@ -310,12 +323,23 @@ bool Remesher<System>::cut_info_from_strain(const DeviceCloth<System>& cloth, co
                    raw<float>(cloth.node_rest), raw<float>(cloth.node_pos), raw<double>(half_hit_sum_),
                    raw<index_t>(half_hit_count_), raw<std::uint16_t>(face_pairs_), raw<double>(crack_length_)});
   clock.mark<System>(CutStage::intersection);
-  // Summed on the host in rank order: the same sum every run.
-  const std::vector<double> lengths = to_host<double>(crack_length_);
+  // Copied back without waiting: the wait for the cut's counts brings them.
+  crack_lengths_at_ = read_back_.queue(raw<double>(crack_length_), static_cast<std::size_t>(count));
+  crack_count_ = count;
   torn.faces = count;
-  for (const double l : lengths) torn.length += l;
   resolve_cut_info(cloth, options, clock);
   return true;
+}
+
+template <class System>
+double Remesher<System>::tear_length() {
+  if (crack_count_ == 0) return 0;
+  read_back_.wait();
+  // Summed on the host in rank order: the same sum every run.
+  const double* lengths = read_back_.template at<double>(crack_lengths_at_);
+  double length = 0;
+  for (index_t i = 0; i < crack_count_; ++i) length += lengths[i];
+  return length;
 }
 
 template <class System>
@@ -324,14 +348,14 @@ void Remesher<System>::resolve_cut_info(const DeviceCloth<System>& cloth, const 
   using namespace kernels;
   const auto& topo = cloth.topo;
   const index_t f_count = topo.face_count, e_count = topo.edge_count;
-  resize_with_headroom(info_.edge_point, e_count);
-  resize_with_headroom(info_.edge_point_t, e_count);
+  resize_for_overwrite(info_.edge_point, e_count);
+  resize_for_overwrite(info_.edge_point_t, e_count);
   for_each_index(e_count, snap_edge_points{raw<index_t>(topo.edge_faces), raw<index_t>(topo.face_edges),
                                            raw<double>(half_hit_sum_), raw<index_t>(half_hit_count_), options.snap,
                                            raw<float>(info_.edge_point_t), raw<std::uint8_t>(info_.edge_point)});
-  resize_with_headroom(info_.face_state, f_count);
-  resize_with_headroom(face_along_, f_count);
-  resize_with_headroom(info_.face_point_bary, 3 * std::size_t(f_count));
+  resize_for_overwrite(info_.face_state, f_count);
+  resize_for_overwrite(face_along_, f_count);
+  resize_for_overwrite(info_.face_point_bary, 3 * std::size_t(f_count));
   const face_cut_info face_info{raw<index_t>(cloth.face_nodes),       raw<index_t>(topo.face_edges),
                                 raw<std::uint16_t>(face_pairs_),      raw<std::uint8_t>(info_.edge_point),
                                 raw<float>(info_.edge_point_t),       raw<std::uint16_t>(info_.face_state),
@@ -342,7 +366,7 @@ void Remesher<System>::resolve_cut_info(const DeviceCloth<System>& cloth, const 
   // (within the quality snap distance), and the faces whose points may have moved are resolved
   // again. Two passes: a snap can change the split of the face across the edge. `snap` 0 asks for
   // exact cut points: no snapping.
-  resize_with_headroom(face_snap_edge_, f_count);
+  resize_for_overwrite(face_snap_edge_, f_count);
   const double max_cosine = std::cos(options.quality_angle_deg * 3.14159265358979323846 / 180.0);
   const double quality_limit = std::min(options.quality_snap, 0.5);
   for (int pass = 0; pass < 2 && options.quality_angle_deg > 0 && options.snap > 0; ++pass) {
@@ -356,7 +380,7 @@ void Remesher<System>::resolve_cut_info(const DeviceCloth<System>& cloth, const 
                                                 raw<float>(info_.edge_point_t)});
     for_each_index(f_count, refresh_snapped_faces{face_info, raw<index_t>(topo.edge_faces), raw<std::int8_t>(face_snap_edge_)});
   }
-  resize_with_headroom(info_.edge_cut, e_count);
+  resize_for_overwrite(info_.edge_cut, e_count);
   for_each_index(e_count, edge_cut_info{raw<index_t>(cloth.face_nodes), raw<index_t>(topo.edge_faces),
                                         raw<index_t>(topo.edge_nodes), raw<index_t>(topo.face_edges),
                                         raw<std::uint8_t>(face_along_), raw<std::uint8_t>(info_.edge_cut)});
@@ -370,9 +394,9 @@ void Remesher<System>::resolve_cut_info(const DeviceCloth<System>& cloth, const 
 
 template <class System>
 bool Remesher<System>::apply_cut_info(DeviceCloth<System>& cloth, const CutOptions& options, CutStats& stats,
-                                      StageClock& clock) {
+                                      StageClock& clock, bool summary) {
   count_and_scan(cloth);  // §2.2 and §2.3 counts and scans
-  summarize(cloth, stats);
+  if (summary) summarize(cloth, stats);
   clock.mark<System>(CutStage::counts_and_scans);
   const index_t n_count = cloth.node_count(), f_count = cloth.face_count();
   if (new_node_count_ == n_count && new_face_count_ == f_count) return false;  // the cuts split nothing
@@ -401,7 +425,7 @@ void Remesher<System>::count_and_scan(const DeviceCloth<System>& cloth) {
   // scanned in place; later stages take a count as the difference of consecutive offsets.
   const SectorMesh sectors = sector_mesh(cloth);
   const std::size_t point_count = std::size_t(n_count) + e_count + f_count;
-  resize_with_headroom(point_new_offset_, point_count + 1);
+  resize_for_overwrite(point_new_offset_, point_count + 1);
   index_t* node_extra_count = raw<index_t>(point_new_offset_);
   index_t* edge_new_count = node_extra_count + n_count;
   index_t* face_new_count = edge_new_count + e_count;
@@ -412,14 +436,18 @@ void Remesher<System>::count_and_scan(const DeviceCloth<System>& cloth) {
   thrust::exclusive_scan(policy, point_new_offset_.begin(), point_new_offset_.end(), point_new_offset_.begin());
 
   // New faces: counts from the split table, exclusive scan.
-  resize_with_headroom(face_new_face_offset_, std::size_t(f_count) + 1);
+  resize_for_overwrite(face_new_face_offset_, std::size_t(f_count) + 1);
   for_each_index(f_count, count_new_faces{raw<std::uint16_t>(info_.face_state), raw<SplitCase>(table_),
                                           raw<index_t>(face_new_face_offset_)});
   thrust::fill(policy, face_new_face_offset_.begin() + f_count, face_new_face_offset_.end(), 0);
   thrust::exclusive_scan(policy, face_new_face_offset_.begin(), face_new_face_offset_.end(), face_new_face_offset_.begin());
 
-  new_node_count_ = n_count + point_new_offset_.back();
-  new_face_count_ = face_new_face_offset_.back();
+  // Both totals in one wait.
+  const std::size_t new_points_at = read_back_.queue(raw<index_t>(point_new_offset_) + point_count, 1);
+  const std::size_t new_faces_at = read_back_.queue(raw<index_t>(face_new_face_offset_) + f_count, 1);
+  read_back_.wait();
+  new_node_count_ = n_count + *read_back_.template at<index_t>(new_points_at);
+  new_face_count_ = *read_back_.template at<index_t>(new_faces_at);
 }
 
 template <class System>
@@ -442,8 +470,8 @@ void Remesher<System>::write_new_nodes(DeviceCloth<System>& cloth, const CutOpti
   using namespace kernels;
   const index_t n_count = cloth.node_count(), f_count = cloth.face_count(), e_count = cloth.topo.edge_count;
   const std::size_t slots = 3 * std::size_t(new_node_count_);
-  resize_with_headroom(node_source_, slots);
-  resize_with_headroom(node_source_weight_, slots);
+  resize_for_overwrite(node_source_, slots);
+  resize_for_overwrite(node_source_weight_, slots);
   fill_unwritten(options, node_source_, slots, index_t(-2));
   const NodeSources sources{raw<index_t>(node_source_), raw<float>(node_source_weight_)};
   const index_t* node_extra_offset = raw<index_t>(point_new_offset_);
@@ -461,14 +489,14 @@ template <class System>
 void Remesher<System>::write_new_faces(DeviceCloth<System>& cloth, const CutOptions& options) {
   using namespace kernels;
   const index_t f_count = cloth.face_count();
-  resize_with_headroom(new_face_parent_, new_face_count_);
+  resize_for_overwrite(new_face_parent_, new_face_count_);
   fill_unwritten(options, new_face_parent_, new_face_count_, index_t(-2));
   CornerAttributes corners;
   const auto entries = cloth.corner_values();
   for (std::size_t a = 0; a < entries.size(); ++a) {
     const auto& [values, comps, unit] = entries[a];
     auto& next = new_corner_values_[a];
-    resize_with_headroom(next, values->empty() ? 0 : 3 * std::size_t(comps) * new_face_count_);
+    resize_for_overwrite(next, values->empty() ? 0 : 3 * std::size_t(comps) * new_face_count_);
     if (!values->empty()) corners.at[corners.count++] = {raw<float>(*values), raw<float>(next), comps, unit};
   }
   static_assert(std::tuple_size<decltype(cloth.corner_values())>::value <= CornerAttributes::capacity);
@@ -477,7 +505,7 @@ void Remesher<System>::write_new_faces(DeviceCloth<System>& cloth, const CutOpti
   static_assert(std::tuple_size<decltype(face_entries)>::value <= FaceAttributes::capacity);
   for (std::size_t a = 0; a < face_entries.size(); ++a) {
     auto& next = new_face_values_[a];
-    resize_with_headroom(next, new_face_count_);
+    resize_for_overwrite(next, new_face_count_);
     face_values.at[face_values.count++] = {raw<index_t>(*face_entries[a]), raw<index_t>(next)};
   }
   for_each_index(f_count, kernels::write_new_faces{raw<index_t>(cloth.face_nodes), raw<index_t>(cloth.topo.face_edges),
@@ -493,7 +521,7 @@ void Remesher<System>::map_nodes(const DeviceCloth<System>& cloth, const CutOpti
   using namespace kernels;
   const index_t n_count = cloth.node_count(), f_count = cloth.face_count(), e_count = cloth.topo.edge_count;
   const std::size_t corners = 3 * std::size_t(new_face_count_);
-  resize_with_headroom(new_face_nodes_, corners);
+  resize_for_overwrite(new_face_nodes_, corners);
   fill_unwritten(options, new_face_nodes_, corners, index_t(-2));
   const SectorMesh sectors = sector_mesh(cloth);
   const index_t* face_tri_offset = raw<index_t>(face_new_face_offset_);
@@ -517,14 +545,14 @@ void Remesher<System>::carry_attributes(DeviceCloth<System>& cloth) {
   for (std::size_t a = 0; a < node_values.size(); ++a) {
     const auto& [values, comps] = node_values[a];
     auto& next = new_node_values_[a];
-    resize_with_headroom(next, std::size_t(comps) * new_node_count_);
+    resize_for_overwrite(next, std::size_t(comps) * new_node_count_);
     nodes.values[nodes.value_count++] = {raw<float>(*values), raw<float>(next), comps};
   }
   const auto node_flags = cloth.node_flags();
   static_assert(std::tuple_size<decltype(node_flags)>::value <= NodeAttributes::flag_capacity);
   for (std::size_t a = 0; a < node_flags.size(); ++a) {
     auto& next = new_node_flags_[a];
-    resize_with_headroom(next, new_node_count_);
+    resize_for_overwrite(next, new_node_count_);
     nodes.flags[nodes.flag_count++] = {raw<std::uint8_t>(*node_flags[a]), raw<std::uint8_t>(next)};
   }
   for_each_index(new_node_count_, carry_node_attributes{raw<index_t>(node_source_), raw<float>(node_source_weight_), nodes});

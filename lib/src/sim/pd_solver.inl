@@ -134,10 +134,10 @@ class PdSolverOn final : public PdSolver::Impl {
   void rebuild(const DeviceCloth<System>& cloth) {
     node_count_ = cloth.node_count();
     const std::size_t n3 = 3 * static_cast<std::size_t>(node_count_);
-    resize_with_headroom(node_pinned_, static_cast<std::size_t>(node_count_));
+    resize_for_overwrite(node_pinned_, static_cast<std::size_t>(node_count_));
     thrust::copy(Traits<System>::policy(), cloth.node_pinned.begin(), cloth.node_pinned.end(), node_pinned_.begin());
     for (auto* v : {&node_pos_, &node_vel_, &node_pred_, &node_iter_[0], &node_iter_[1], &node_iter_[2]})
-      resize_with_headroom(*v, n3);
+      resize_for_overwrite(*v, n3);
     // As built: the solver's own state at rest and bound; `step_in_place` binds a cloth's again.
     thrust::fill(Traits<System>::policy(), node_vel_.begin(), node_vel_.end(), 0.0f);
     state_pos_ = raw<float>(node_pos_);
@@ -216,10 +216,20 @@ class PdSolverOn final : public PdSolver::Impl {
  public:
   Device device() const override { return std::is_same<System, Omp>::value ? Device::cpu : Device::cuda; }
   index_t node_count() const override { return node_count_; }
-  index_t constraint_count() const override { return active_constraint_count_; }
+  /// Counted when asked (a reduction and a read-back no rebuild after a tear needs).
+  index_t constraint_count() const override {
+    if (active_constraint_count_ < 0) {
+      const thrust::counting_iterator<index_t> zero(0);
+      active_constraint_count_ = thrust::transform_reduce(
+          Traits<System>::policy(), zero, zero + edge_count_,
+          kernels::count_edge_constraints{raw<float>(spring_weight_), raw<float>(hinge_weight_)}, index_t(0),
+          thrust::plus<index_t>());
+    }
+    return active_constraint_count_;
+  }
   std::size_t bytes_per_iteration() const override {
     const std::size_t e = static_cast<std::size_t>(edge_count_), n = static_cast<std::size_t>(node_count_),
-                      s = node_slots_.size(), c = static_cast<std::size_t>(constraint_count_);
+                      s = static_cast<std::size_t>(used_slot_count()), c = static_cast<std::size_t>(constraint_count_);
     // Local step: a spring's record (2 nodes, weight, rest length) or a hinge's (4 nodes, 4
     // coefficients, weight, rest value) read, its force written; each iterate read once. Global
     // step: a node's CSR offset, mass, diagonal, pin, prediction and two iterates read and the next
@@ -265,6 +275,10 @@ class PdSolverOn final : public PdSolver::Impl {
   /// Masses, constraints, the node→constraint CSR and the Jacobi diagonal of the mesh; the state
   /// starts at rest (positions = rest positions, no velocity).
   void build_model(const vec<index_t>& face_nodes, const vec<float>& node_rest, const DeviceTopology<System>& topo);
+  /// The slots the CSR holds (a read-back: for the figures, not the steps).
+  index_t used_slot_count() const {
+    return node_count_ > 0 ? static_cast<index_t>(node_slot_offset_[node_count_]) : 0;
+  }
   kernels::PdConstraints constraints() const {
     return {edge_count_,           raw<index_t>(spring_nodes_), raw<float>(spring_weight_), raw<float>(spring_rest_),
             raw<index_t>(hinge_nodes_), raw<float>(hinge_coef_),  raw<float>(hinge_weight_), raw<float>(hinge_rest_)};
@@ -287,7 +301,7 @@ class PdSolverOn final : public PdSolver::Impl {
   SimulationOptions options_;
   index_t node_count_ = 0;
   index_t constraint_count_ = 0;  // 2 per edge, weightless ones included
-  index_t active_constraint_count_ = 0;
+  mutable index_t active_constraint_count_ = -1;  // -1: not counted since the model was built
   vec<std::uint8_t> node_pinned_;
   vec<float> node_pos_, node_vel_;
   // Model.
@@ -295,7 +309,8 @@ class PdSolverOn final : public PdSolver::Impl {
   index_t edge_count_ = 0;
   vec<index_t> spring_nodes_, hinge_nodes_;
   vec<float> spring_weight_, spring_rest_, hinge_coef_, hinge_weight_, hinge_rest_;
-  vec<index_t> node_slot_offset_, node_slots_;
+  vec<index_t> node_slot_offset_, node_slots_;  // node_slots_ sized for every slot, used or not
+  vec<index_t> node_tally_;                      // the CSR's counts and cursors
   // Pins and colliders as the substep being run sees them ([pin_count], [collider_count]); with
   // keys, rewritten before each substep from the frame's records ([substeps × count] each).
   bool keyed_ = false;
@@ -326,7 +341,7 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
   bool keyed_pins = false;
   for (const Pin& p : options_.pins) keyed_pins = keyed_pins || !p.keys.empty();
   if (keyed_pins) {  // into the kept array: a rebuild after every tear would allocate it again
-    resize_with_headroom(node_rest_, node_rest.size());
+    resize_for_overwrite(node_rest_, node_rest.size());
     thrust::copy(policy, node_rest.begin(), node_rest.end(), node_rest_.begin());
   }
   if (keyed_) {
@@ -335,7 +350,7 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
     frame_colliders_.resize(substeps * colliders_.size());
   }
 
-  resize_with_headroom(node_mass_, node_count_);
+  resize_for_overwrite(node_mass_, node_count_);
   thrust::for_each(
       policy, zero, zero + node_count_,
       compute_node_masses{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.node_face_offset),
@@ -344,30 +359,28 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
   const index_t edge_count = topo.edge_count;
   constraint_count_ = 2 * edge_count;
   edge_count_ = edge_count;
-  resize_with_headroom(spring_nodes_, 2 * static_cast<std::size_t>(edge_count));
-  resize_with_headroom(hinge_nodes_, pd_constraint_nodes * static_cast<std::size_t>(edge_count));
-  resize_with_headroom(hinge_coef_, pd_constraint_nodes * static_cast<std::size_t>(edge_count));
-  for (auto* v : {&spring_weight_, &spring_rest_, &hinge_weight_, &hinge_rest_}) resize_with_headroom(*v, edge_count);
-  resize_with_headroom(constraint_force_, 3 * static_cast<std::size_t>(constraint_count_));
+  resize_for_overwrite(spring_nodes_, 2 * static_cast<std::size_t>(edge_count));
+  resize_for_overwrite(hinge_nodes_, pd_constraint_nodes * static_cast<std::size_t>(edge_count));
+  resize_for_overwrite(hinge_coef_, pd_constraint_nodes * static_cast<std::size_t>(edge_count));
+  for (auto* v : {&spring_weight_, &spring_rest_, &hinge_weight_, &hinge_rest_}) resize_for_overwrite(*v, edge_count);
+  resize_for_overwrite(constraint_force_, 3 * static_cast<std::size_t>(constraint_count_));
   thrust::for_each(policy, zero, zero + edge_count,
                    make_pd_constraints{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.edge_nodes),
                                        raw<index_t>(topo.edge_faces), raw<index_t>(topo.edge_face_count), edge_count,
                                        options_.stretch_stiffness, options_.bend_stiffness, raw<index_t>(spring_nodes_),
                                        raw<float>(spring_weight_), raw<float>(spring_rest_), raw<index_t>(hinge_nodes_),
                                        raw<float>(hinge_coef_), raw<float>(hinge_weight_), raw<float>(hinge_rest_)});
-  active_constraint_count_ = thrust::transform_reduce(
-      policy, zero, zero + edge_count, count_edge_constraints{raw<float>(spring_weight_), raw<float>(hinge_weight_)},
-      index_t(0), thrust::plus<index_t>());
+  active_constraint_count_ = -1;
 
   // Node→constraint CSR: the used slots counting-sorted by node, so a node's constraints come in
-  // index order, the fixed order its Jacobi update sums them in.
+  // index order, the fixed order its Jacobi update sums them in. Its values are given room for
+  // every slot, so that no count is read back: the used ones are a prefix.
   const PdConstraints model = constraints();
-  vec<index_t> node_tally;
-  build_csr_by_counting<System>(policy, ConstraintSlots{model}, model.slot_count(), node_count_, -1, node_tally,
-                                node_slot_offset_, node_slots_);
+  build_csr_by_counting<System>(policy, ConstraintSlots{model}, model.slot_count(), node_count_, model.slot_count(),
+                                node_tally_, node_slot_offset_, node_slots_);
 
   const double h = options_.step_seconds();
-  resize_with_headroom(node_diag_, node_count_);
+  resize_for_overwrite(node_diag_, node_count_);
   thrust::for_each(
       policy, zero, zero + node_count_,
       compute_jacobi_diagonal{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), model, raw<float>(node_mass_),

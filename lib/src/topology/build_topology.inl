@@ -36,25 +36,25 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
                                     raw<index_t>(topo.node_faces), raw<index_t>(node_tally)});
   thrust::fill(policy, node_tally.begin() + node_count, node_tally.end(), 0);  // a launch, not a host write
   auto& node_edge_offset = scratch.node_edge_offset;
-  resize_with_headroom(node_edge_offset, nodes_and_end);
+  resize_for_overwrite(node_edge_offset, nodes_and_end);
   thrust::exclusive_scan(policy, node_tally.begin(), node_tally.end(), node_edge_offset.begin());
   const index_t edge_count = node_edge_offset[node_count];
   topo.edge_count = edge_count;
-  resize_with_headroom(topo.edge_nodes, 2 * static_cast<std::size_t>(edge_count));
-  resize_with_headroom(topo.edge_faces, 2 * static_cast<std::size_t>(edge_count));
-  resize_with_headroom(topo.edge_face_count, edge_count);
-  resize_with_headroom(topo.edge_boundary, edge_count);
+  resize_for_overwrite(topo.edge_nodes, 2 * static_cast<std::size_t>(edge_count));
+  resize_for_overwrite(topo.edge_faces, 2 * static_cast<std::size_t>(edge_count));
+  resize_for_overwrite(topo.edge_face_count, edge_count);
+  resize_for_overwrite(topo.edge_boundary, edge_count);
   thrust::for_each(policy, zero, zero + node_count,
                    write_node_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
                                     raw<index_t>(topo.node_faces), raw<index_t>(node_edge_offset),
                                     raw<index_t>(topo.edge_nodes), raw<index_t>(topo.edge_faces),
                                     raw<index_t>(topo.edge_face_count), raw<std::uint8_t>(topo.edge_boundary)});
-  resize_with_headroom(topo.face_edges, half_count);
+  resize_for_overwrite(topo.face_edges, half_count);
   thrust::for_each(policy, zero, zero + half_count,
                    write_face_edges{raw<index_t>(face_nodes), raw<index_t>(node_edge_offset),
                                     raw<index_t>(topo.edge_nodes), raw<index_t>(topo.face_edges)});
 
-  resize_with_headroom(topo.node_boundary, node_count);
+  resize_for_overwrite(topo.node_boundary, node_count);
   thrust::for_each(policy, zero, zero + node_count,
                    flag_boundary_nodes{raw<index_t>(face_nodes), raw<index_t>(topo.face_edges), raw<index_t>(topo.node_face_offset),
                                        raw<index_t>(topo.node_faces), raw<std::uint8_t>(topo.edge_boundary), raw<std::uint8_t>(topo.node_boundary)});

@@ -49,13 +49,13 @@ void build_csr_by_counting(const Policy& policy, Items items, index_t item_count
                            vector<System, index_t>& values) {
   const thrust::counting_iterator<index_t> zero(0);
   const std::size_t ends = static_cast<std::size_t>(key_count) + 1;
-  resize_with_headroom(tally, ends);
+  resize_for_overwrite(tally, ends);
   thrust::fill(policy, tally.begin(), tally.end(), 0);
   thrust::for_each(policy, zero, zero + item_count, kernels::count_keys<Items>{items, raw<index_t>(tally)});
-  resize_with_headroom(offset, ends);
+  resize_for_overwrite(offset, ends);
   thrust::exclusive_scan(policy, tally.begin(), tally.end(), offset.begin());
   thrust::copy(policy, offset.begin(), offset.end(), tally.begin());  // the cursors
-  resize_with_headroom(values, value_count >= 0 ? value_count : static_cast<index_t>(offset[key_count]));
+  resize_for_overwrite(values, value_count >= 0 ? value_count : static_cast<index_t>(offset[key_count]));
   thrust::for_each(policy, zero, zero + item_count,
                    kernels::fill_by_key<Items>{items, raw<index_t>(tally), raw<index_t>(values)});
   thrust::for_each(policy, zero, zero + key_count, kernels::sort_runs{raw<index_t>(offset), raw<index_t>(values)});
