@@ -182,49 +182,24 @@ PlyHeader parse_header(const std::string& path, const std::string& bytes) {
   return header;
 }
 
+template <typename T>
+double load(const unsigned char* raw) {
+  T value;
+  std::memcpy(&value, raw, sizeof value);
+  return static_cast<double>(value);
+}
+
 /// A binary value of `type` at `at`, as a double (exact for every PLY type).
 double decode(const char* at, PlyType type, bool big_endian) {
   unsigned char raw[8];
   const std::size_t size = size_of(type);
   std::memcpy(raw, at, size);
   if (big_endian) std::reverse(raw, raw + size);
-  switch (type) {
-    case PlyType::int8:
-      return static_cast<std::int8_t>(raw[0]);
-    case PlyType::uint8:
-      return raw[0];
-    case PlyType::int16: {
-      std::int16_t v;
-      std::memcpy(&v, raw, 2);
-      return v;
-    }
-    case PlyType::uint16: {
-      std::uint16_t v;
-      std::memcpy(&v, raw, 2);
-      return v;
-    }
-    case PlyType::int32: {
-      std::int32_t v;
-      std::memcpy(&v, raw, 4);
-      return v;
-    }
-    case PlyType::uint32: {
-      std::uint32_t v;
-      std::memcpy(&v, raw, 4);
-      return v;
-    }
-    case PlyType::float32: {
-      float v;
-      std::memcpy(&v, raw, 4);
-      return v;
-    }
-    case PlyType::float64: {
-      double v;
-      std::memcpy(&v, raw, 8);
-      return v;
-    }
-  }
-  return 0.0;
+  // In the order of PlyType.
+  static constexpr double (*const loaders[])(const unsigned char*) = {
+      load<std::int8_t>,  load<std::uint8_t>,  load<std::int16_t>, load<std::uint16_t>,
+      load<std::int32_t>, load<std::uint32_t>, load<float>,        load<double>};
+  return loaders[static_cast<int>(type)](raw);
 }
 
 /// Reads the values of the data section one by one, binary or ASCII, and fails with the element
