@@ -467,18 +467,16 @@ FileMesh read_obj_file(const std::string& path, std::string text, const std::str
       if (index >= relative / 2) index = index - relative + static_cast<std::int64_t>(base);
     };
     auto check = [&](std::int64_t index, std::size_t count, std::size_t face, const char* what, const char* keyword) {
-      if (index == absent) return true;
+      if (index == absent || (index >= 0 && static_cast<std::size_t>(index) < count)) return true;
       const std::string number = std::to_string(at.face + face + 1);
       if (index == invalid) {
         piece_error[k] = "face " + number + " has a " + what + " index of 0 or no number (OBJ indices start at 1)";
       } else if (index < 0) {
         piece_error[k] = "face " + number + " has a relative " + what + " index that reaches before the first '" +
                          keyword + "' line";
-      } else if (static_cast<std::size_t>(index) >= count) {
+      } else {
         piece_error[k] = "face " + number + " uses " + what + " " + std::to_string(index + 1) +
                          ", out of range (the file has " + std::to_string(count) + " '" + keyword + "' lines)";
-      } else {
-        return true;
       }
       return false;
     };
