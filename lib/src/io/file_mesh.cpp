@@ -63,6 +63,19 @@ void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normal
 
   Mesh& mesh = out.mesh;
   const index_t base = mesh.node_count();
+  // Room for this placement, so that a large primitive is not copied as its arrays grow (and
+  // still geometric growth, so that many small ones are not copied once each).
+  auto room_for = [](auto& values, std::size_t more) {
+    if (values.capacity() < values.size() + more) values.reserve(std::max(values.size() + more, 2 * values.size()));
+  };
+  const std::size_t vertex_count = static_cast<std::size_t>(placed.vertex_count);
+  const std::size_t corner_count = placed.triangles->size();
+  room_for(mesh.node_pos, 3 * vertex_count);
+  if (with_velocities) room_for(mesh.node_vel, 3 * vertex_count);
+  if (with_ids) room_for(out.vertex_id, vertex_count);
+  room_for(mesh.face_nodes, corner_count);
+  if (with_uv) room_for(mesh.corner_uv, 2 * corner_count);
+  if (with_normals) room_for(mesh.corner_normal, 3 * corner_count);
   for (index_t v = 0; v < placed.vertex_count; ++v) {
     const float* p = placed.vertex_pos + 3 * v;
     if (identity) {

@@ -1,6 +1,7 @@
 // tear: what each format's reader hands to read_mesh before welding, and helpers they share.
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -22,8 +23,14 @@ struct FileMesh {
   std::vector<index_t> vertex_id;
 };
 
+/// Bytes of OBJ text below which `read_obj_file` reads a file in one piece; larger files are read
+/// in pieces of about this size or more, one per thread and a few over.
+inline constexpr std::size_t obj_piece_bytes = std::size_t(1) << 20;
+
 /// The readers. `bytes` is the whole file. Each throws an input `Error` naming `path`.
-FileMesh read_obj_file(const std::string& path, std::string bytes, const std::string& mesh_name);
+/// `piece_bytes` lets tests cut small files into many pieces; the result does not depend on it.
+FileMesh read_obj_file(const std::string& path, std::string bytes, const std::string& mesh_name,
+                       std::size_t piece_bytes = obj_piece_bytes);
 FileMesh read_ply_file(const std::string& path, const std::string& bytes, const std::string& mesh_name);
 /// glTF 2.0 and GLB 2; nothing for a glTF 1.0 document (another schema, which assimp reads).
 std::optional<FileMesh> read_gltf_file(const std::string& path, const std::string& bytes, const std::string& mesh_name);

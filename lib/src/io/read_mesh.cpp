@@ -39,17 +39,27 @@ Reader reader_for(const std::string& path, const std::string& head) {
 std::string read_file(const std::string& path, std::size_t limit) {
   std::ifstream in(path, std::ios::binary);
   if (!in) throw input_error(path, std::string("cannot read: ") + std::strerror(errno));
-  std::string bytes;
-  if (limit != std::string::npos) {
-    bytes.resize(limit);
-    in.read(&bytes[0], static_cast<std::streamsize>(limit));
-    bytes.resize(static_cast<std::size_t>(in.gcount()));
-    return bytes;
+  // The whole file in one read into a string of its size: a stream copied through an
+  // ostringstream costs two more copies of a file of hundreds of megabytes.
+  if (limit == std::string::npos) {
+    in.seekg(0, std::ios::end);
+    const std::streamoff size = in.tellg();
+    in.seekg(0, std::ios::beg);
+    if (size < 0 || !in) {
+      std::ostringstream all;  // not seekable (a pipe): read it as a stream
+      in.clear();
+      all << in.rdbuf();
+      if (in.bad()) throw input_error(path, std::string("cannot read: ") + std::strerror(errno));
+      return all.str();
+    }
+    limit = static_cast<std::size_t>(size);
   }
-  std::ostringstream all;
-  all << in.rdbuf();
+  std::string bytes;
+  bytes.resize(limit);
+  in.read(&bytes[0], static_cast<std::streamsize>(limit));
   if (in.bad()) throw input_error(path, std::string("cannot read: ") + std::strerror(errno));
-  return all.str();
+  bytes.resize(static_cast<std::size_t>(in.gcount()));
+  return bytes;
 }
 
 }  // namespace

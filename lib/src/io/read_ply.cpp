@@ -182,6 +182,26 @@ PlyHeader parse_header(const std::string& path, const std::string& bytes) {
   return header;
 }
 
+template <typename T>
+double load(const unsigned char* raw) {
+  T value;
+  std::memcpy(&value, raw, sizeof value);
+  return static_cast<double>(value);
+}
+
+/// A binary value of `type` at `at`, as a double (exact for every PLY type).
+double decode(const char* at, PlyType type, bool big_endian) {
+  unsigned char raw[8];
+  const std::size_t size = size_of(type);
+  std::memcpy(raw, at, size);
+  if (big_endian) std::reverse(raw, raw + size);
+  // In the order of PlyType.
+  static constexpr double (*const loaders[])(const unsigned char*) = {
+      load<std::int8_t>,  load<std::uint8_t>,  load<std::int16_t>, load<std::uint16_t>,
+      load<std::int32_t>, load<std::uint32_t>, load<float>,        load<double>};
+  return loaders[static_cast<int>(type)](raw);
+}
+
 /// Reads the values of the data section one by one, binary or ASCII, and fails with the element
 /// and instance it was reading when the file ends or a value is malformed.
 class PlyReader {
@@ -215,6 +235,14 @@ class PlyReader {
     return items;
   }
 
+  /// The next `bytes` bytes of a binary file, which the caller has checked are there.
+  const char* take(std::size_t bytes) {
+    const char* at = p_;
+    p_ += bytes;
+    return at;
+  }
+  bool big_endian() const { return format_ == PlyFormat::binary_big_endian; }
+
   Error fail(const std::string& what) const {
     return input_error(path_, element_->name + " " + std::to_string(instance_) + ": " + what);
   }
@@ -223,47 +251,7 @@ class PlyReader {
   double next_binary(PlyType type, const std::string& property) {
     const std::size_t size = size_of(type);
     if (bytes_left() < size) throw fail("the file ends in '" + property + "' (truncated)");
-    unsigned char raw[8];
-    std::memcpy(raw, p_, size);
-    p_ += size;
-    if (format_ == PlyFormat::binary_big_endian) std::reverse(raw, raw + size);
-    switch (type) {
-      case PlyType::int8:
-        return static_cast<std::int8_t>(raw[0]);
-      case PlyType::uint8:
-        return raw[0];
-      case PlyType::int16: {
-        std::int16_t v;
-        std::memcpy(&v, raw, 2);
-        return v;
-      }
-      case PlyType::uint16: {
-        std::uint16_t v;
-        std::memcpy(&v, raw, 2);
-        return v;
-      }
-      case PlyType::int32: {
-        std::int32_t v;
-        std::memcpy(&v, raw, 4);
-        return v;
-      }
-      case PlyType::uint32: {
-        std::uint32_t v;
-        std::memcpy(&v, raw, 4);
-        return v;
-      }
-      case PlyType::float32: {
-        float v;
-        std::memcpy(&v, raw, 4);
-        return v;
-      }
-      case PlyType::float64: {
-        double v;
-        std::memcpy(&v, raw, 8);
-        return v;
-      }
-    }
-    return 0.0;
+    return decode(take(size), type, format_ == PlyFormat::binary_big_endian);
   }
 
   double next_text(PlyType type, const std::string& property) {
@@ -473,19 +461,41 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
       return static_cast<index_t>(value);
     };
     std::vector<double> values(element.properties.size());
+    // A binary element without lists has one layout for every instance: when the file holds all
+    // of them, their values are taken at fixed offsets, without checking each value's bytes.
+    std::size_t stride = 0;
+    bool fixed = !reader.ascii();
+    for (const PlyProperty& property : element.properties) {
+      fixed = fixed && !property.list;
+      stride += size_of(property.type);
+    }
+    fixed = fixed && element.count <= reader.bytes_left() / stride;
     for (std::uint64_t instance = 0; instance < element.count; ++instance) {
       reader.at(element, instance);
       polygon.clear();
       polygon_texcoord.clear();
-      for (std::size_t i = 0; i < element.properties.size(); ++i) {
+      if (fixed) {
+        const char* at = reader.take(stride);
+        for (std::size_t i = 0; i < element.properties.size(); ++i) {
+          values[i] = decode(at, element.properties[i].type, reader.big_endian());
+          at += size_of(element.properties[i].type);
+        }
+      }
+      for (std::size_t i = 0; i < element.properties.size() && !fixed; ++i) {
         const PlyProperty& property = element.properties[i];
         if (!property.list) {
           values[i] = reader.next(property.type, property.name);
           continue;
         }
         const std::uint64_t items = reader.next_count(property);
+        // A binary list whose items are all there is read without checking each item's bytes.
+        const std::size_t item_size = size_of(property.type);
+        const char* list_at = !reader.ascii() && items <= reader.bytes_left() / item_size
+                                  ? reader.take(static_cast<std::size_t>(items) * item_size)
+                                  : nullptr;
         for (std::uint64_t item = 0; item < items; ++item) {
-          const double value = reader.next(property.type, property.name);
+          const double value = list_at ? decode(list_at + item * item_size, property.type, reader.big_endian())
+                                       : reader.next(property.type, property.name);
           if (static_cast<int>(i) == indices) {
             polygon.push_back(vertex_index(value));
           } else if (static_cast<int>(i) == texcoord) {
@@ -550,6 +560,11 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
       std::find(polygon_has_texcoord.begin(), polygon_has_texcoord.end(), 1) != polygon_has_texcoord.end();
   const bool with_uv = face_uv || !vertex_uv.empty();
   const bool with_normals = !vertex_normal.empty();
+  const std::size_t triangle_corners = 3 * (corner_vertex.size() - 2 * (polygon_offset.size() - 1));
+  if (triangle_corners > max_index_count) throw input_error(path, "too large: more than 2^31 face corners");
+  mesh.face_nodes.reserve(triangle_corners);
+  if (with_uv) mesh.corner_uv.reserve(2 * triangle_corners);
+  if (with_normals) mesh.corner_normal.reserve(3 * triangle_corners);
   std::vector<float> polygon_pos;
   std::vector<index_t> triangle;
   for (std::size_t p = 0; p + 1 < polygon_offset.size(); ++p) {

@@ -2,6 +2,7 @@
 #include <cmath>
 #include <cstdint>
 #include <numeric>
+#include <parallel/algorithm>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -55,12 +56,23 @@ std::vector<std::uint8_t> used_nodes(const Mesh& mesh) {
   return used;
 }
 
+/// values[i] = values[kept[i]] for each node of `width` values. In place when `kept` ascends (each
+/// node moves down, never past one not yet read), else through a copy.
 template <typename T>
 void gather(std::vector<T>& values, int width, const std::vector<index_t>& kept) {
   if (values.empty()) return;
-  std::vector<T> out;
-  out.reserve(width * kept.size());
-  for (index_t node : kept) out.insert(out.end(), values.begin() + width * node, values.begin() + width * node + width);
+  const std::size_t w = static_cast<std::size_t>(width);
+  if (std::is_sorted(kept.begin(), kept.end())) {
+    for (std::size_t i = 0; i < kept.size(); ++i) {
+      std::copy(values.begin() + w * kept[i], values.begin() + w * kept[i] + w, values.begin() + w * i);
+    }
+    values.resize(w * kept.size());
+    return;
+  }
+  std::vector<T> out(w * kept.size());
+  for (std::size_t i = 0; i < kept.size(); ++i) {
+    std::copy(values.begin() + w * kept[i], values.begin() + w * kept[i] + w, out.begin() + w * i);
+  }
   values = std::move(out);
 }
 
@@ -77,24 +89,28 @@ std::uint64_t edge_key(index_t a, index_t b) {
 /// nodes and are kept only while they are still an edge of exactly one face.
 void merge_nodes(Mesh& mesh, const std::vector<index_t>& node_group, const std::vector<std::int64_t>& group_key) {
   const index_t face_count = mesh.face_count();
-  std::vector<index_t> face_nodes;
-  std::vector<float> corner_uv, corner_normal;
-  face_nodes.reserve(mesh.face_nodes.size());
-  corner_uv.reserve(mesh.corner_uv.size());
-  corner_normal.reserve(mesh.corner_normal.size());
+  // Compacted in place: a kept face moves to its running count, never past where it was read.
+  std::vector<index_t>& face_nodes = mesh.face_nodes;
+  std::vector<float>&corner_uv = mesh.corner_uv, &corner_normal = mesh.corner_normal;
+  std::size_t kept_faces = 0;
   for (index_t face = 0; face < face_count; ++face) {
     index_t merged[3];
-    for (int k = 0; k < 3; ++k) merged[k] = node_group[mesh.face_nodes[3 * face + k]];
+    for (int k = 0; k < 3; ++k) merged[k] = node_group[face_nodes[3 * face + k]];
     if (merged[0] == merged[1] || merged[1] == merged[2] || merged[2] == merged[0]) continue;
-    face_nodes.insert(face_nodes.end(), merged, merged + 3);
+    std::copy(merged, merged + 3, face_nodes.begin() + 3 * kept_faces);
     if (mesh.has_uv()) {
-      corner_uv.insert(corner_uv.end(), mesh.corner_uv.begin() + 6 * face, mesh.corner_uv.begin() + 6 * face + 6);
+      std::copy(corner_uv.begin() + 6 * face, corner_uv.begin() + 6 * face + 6, corner_uv.begin() + 6 * kept_faces);
     }
     if (mesh.has_normals()) {
-      corner_normal.insert(corner_normal.end(), mesh.corner_normal.begin() + 9 * face,
-                           mesh.corner_normal.begin() + 9 * face + 9);
+      std::copy(corner_normal.begin() + 9 * face, corner_normal.begin() + 9 * face + 9,
+                corner_normal.begin() + 9 * kept_faces);
     }
+    ++kept_faces;
   }
+  const bool with_uv = mesh.has_uv(), with_normals = mesh.has_normals();
+  face_nodes.resize(3 * kept_faces);
+  if (with_uv) corner_uv.resize(6 * kept_faces);
+  if (with_normals) corner_normal.resize(9 * kept_faces);
 
   // The representatives still in use, in the order of their keys.
   std::vector<index_t> kept;
@@ -141,29 +157,32 @@ void merge_nodes(Mesh& mesh, const std::vector<index_t>& node_group, const std::
   gather(mesh.node_vel, 3, kept);
   gather(mesh.node_origin_face, 1, kept);
   gather(mesh.node_origin_bary, 2, kept);
-  mesh.face_nodes = std::move(face_nodes);
-  if (mesh.has_uv()) mesh.corner_uv = std::move(corner_uv);
-  if (mesh.has_normals()) mesh.corner_normal = std::move(corner_normal);
   mesh.torn_edge_nodes = std::move(torn_edge_nodes);
 }
 
 /// Exact welding: sort by position (ties by index), so each run of equal positions starts with its
-/// lowest index.
+/// lowest index. The keys carry their positions, and the sort runs on the OpenMP threads (its
+/// order is unique, ties being broken by index, so it is the same on any number of threads).
 void link_identical(const std::vector<float>& node_pos, const std::vector<index_t>& nodes, DisjointSets& sets) {
-  std::vector<index_t> order = nodes;
-  auto less = [&](index_t a, index_t b) {
-    for (int k = 0; k < 3; ++k) {
-      if (node_pos[3 * a + k] != node_pos[3 * b + k]) return node_pos[3 * a + k] < node_pos[3 * b + k];
-    }
-    return a < b;
+  struct Key {
+    float pos[3];
+    index_t node;
   };
-  std::sort(order.begin(), order.end(), less);
-  for (std::size_t i = 1; i < order.size(); ++i) {
-    const index_t a = order[i - 1], b = order[i];
-    if (node_pos[3 * a] == node_pos[3 * b] && node_pos[3 * a + 1] == node_pos[3 * b + 1] &&
-        node_pos[3 * a + 2] == node_pos[3 * b + 2]) {
-      sets.unite(a, b);
+  std::vector<Key> order(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const float* p = &node_pos[3 * static_cast<std::size_t>(nodes[i])];
+    order[i] = Key{{p[0], p[1], p[2]}, nodes[i]};
+  }
+  auto less = [](const Key& a, const Key& b) {
+    for (int k = 0; k < 3; ++k) {
+      if (a.pos[k] != b.pos[k]) return a.pos[k] < b.pos[k];
     }
+    return a.node < b.node;
+  };
+  __gnu_parallel::sort(order.begin(), order.end(), less);
+  for (std::size_t i = 1; i < order.size(); ++i) {
+    const Key &a = order[i - 1], &b = order[i];
+    if (a.pos[0] == b.pos[0] && a.pos[1] == b.pos[1] && a.pos[2] == b.pos[2]) sets.unite(a.node, b.node);
   }
 }
 
@@ -260,12 +279,19 @@ void weld_nodes_by_id(Mesh& mesh, const std::vector<index_t>& node_id) {
     order.push_back(node);
   }
   // Sorted by (id, index): each run of one id starts with its lowest index, the representative.
-  std::sort(order.begin(), order.end(),
-            [&](index_t a, index_t b) { return node_id[a] != node_id[b] ? node_id[a] < node_id[b] : a < b; });
+  // (id, index) in one 64-bit key sorts without looking the ids up; ids are >= 0 here.
+  std::vector<std::uint64_t> id_node(order.size());
+  for (std::size_t i = 0; i < order.size(); ++i) {
+    id_node[i] = (static_cast<std::uint64_t>(node_id[order[i]]) << 32) | static_cast<std::uint32_t>(order[i]);
+  }
+  __gnu_parallel::sort(id_node.begin(), id_node.end());
   std::vector<index_t> node_group(node_count);
   std::iota(node_group.begin(), node_group.end(), 0);
-  for (std::size_t i = 1; i < order.size(); ++i) {
-    if (node_id[order[i]] == node_id[order[i - 1]]) node_group[order[i]] = node_group[order[i - 1]];
+  for (std::size_t i = 1; i < id_node.size(); ++i) {
+    if (id_node[i] >> 32 == id_node[i - 1] >> 32) {
+      node_group[static_cast<index_t>(id_node[i] & 0xFFFFFFFFu)] =
+          node_group[static_cast<index_t>(id_node[i - 1] & 0xFFFFFFFFu)];
+    }
   }
   std::vector<std::int64_t> group_key(node_id.begin(), node_id.end());
   merge_nodes(mesh, node_group, group_key);
