@@ -187,13 +187,20 @@ TEAR_HD inline void for_each_node_edge(const index_t* face_nodes, const index_t*
     visit(edge_to(face_nodes, node_face_offset, node_faces, n, end));
 }
 
-/// Number of edges whose lower node is n: the distinct higher ends of its half-edges.
+/// Number of edges whose lower node is n: the distinct higher ends of its half-edges. Run over one
+/// index more than the nodes: that thread writes the 0 after the counts, which their exclusive
+/// scan turns into the edge count.
 struct count_node_edges {
   const index_t* face_nodes;
   const index_t* node_face_offset;
   const index_t* node_faces;
   index_t* node_edge_count;
+  index_t node_count;
   TEAR_HD void operator()(index_t n) const {
+    if (n == node_count) {
+      node_edge_count[n] = 0;
+      return;
+    }
     index_t count = 0;
     for_each_node_edge(face_nodes, node_face_offset, node_faces, n, [&](const NodeEdge&) { ++count; });
     node_edge_count[n] = count;

@@ -61,6 +61,24 @@ struct count_new_faces {
   TEAR_HD void operator()(index_t f) const { face_new_face_count[f] = split_case(table, face_state[f]).tri_count; }
 };
 
+/// Per face, both counts: its new nodes and its new triangles. Run over one index more than the
+/// faces: that thread writes the 0 after each array's counts, which their exclusive scans turn into
+/// the totals.
+struct count_face_copies_and_triangles {
+  count_face_copies copies;
+  count_new_faces triangles;
+  index_t face_count;
+  TEAR_HD void operator()(index_t f) const {
+    if (f == face_count) {
+      copies.face_new_count[f] = 0;
+      triangles.face_new_face_count[f] = 0;
+      return;
+    }
+    copies(f);
+    triangles(f);
+  }
+};
+
 /// What a cut did, for its statistics: edges with a cut point, edges with a cut line along them,
 /// faces with a face point. One reduction, so one read-back.
 struct CutSummary {

@@ -39,4 +39,36 @@ TEAR_HD inline int atomic_fetch_add(int* p, int v) {
   return __atomic_fetch_add(p, v, __ATOMIC_RELAXED);
 #endif
 }
+
+/// Per-element passes over consecutive index ranges in one launch: [0, a) runs first(i),
+/// [a, a + b) second(i - a), the rest third(i - a - b). A stage's passes over nodes, edges and faces
+/// that read nothing the others write launch once instead of three times, and each thread still
+/// does one element.
+template <class First, class Second, class Third>
+struct over_three_ranges {
+  First first;
+  Second second;
+  Third third;
+  index_t a, b;
+  TEAR_HD void operator()(index_t i) const {
+    if (i < a)
+      first(i);
+    else if (i < a + b)
+      second(i - a);
+    else
+      third(i - a - b);
+  }
+};
+
+/// A pass that does nothing: `over_three_ranges` with two ranges.
+struct no_pass {
+  TEAR_HD void operator()(index_t) const {}
+};
+
+template <class First, class Second, class Third>
+over_three_ranges<First, Second, Third> make_over_three_ranges(First first, Second second, Third third, index_t a,
+                                                               index_t b) {
+  return {first, second, third, a, b};
+}
+
 }  // namespace tear::kernels

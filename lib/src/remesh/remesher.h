@@ -429,17 +429,17 @@ void Remesher<System>::count_and_scan(const DeviceCloth<System>& cloth) {
   index_t* node_extra_count = raw<index_t>(point_new_offset_);
   index_t* edge_new_count = node_extra_count + n_count;
   index_t* face_new_count = edge_new_count + e_count;
-  for_each_index(n_count, count_node_copies{sectors, node_extra_count});
-  for_each_index(e_count, count_edge_copies{sectors, raw<std::uint8_t>(info_.edge_point), edge_new_count});
-  for_each_index(f_count, count_face_copies{sectors, face_new_count});
-  thrust::fill(policy, point_new_offset_.begin() + point_count, point_new_offset_.end(), 0);
-  thrust::exclusive_scan(policy, point_new_offset_.begin(), point_new_offset_.end(), point_new_offset_.begin());
-
-  // New faces: counts from the split table, exclusive scan.
+  // New faces per face: counts from the split table (paper §2.3), in the same launch as the copies.
   resize_for_overwrite(face_new_face_offset_, std::size_t(f_count) + 1);
-  for_each_index(f_count, count_new_faces{raw<std::uint16_t>(info_.face_state), raw<SplitCase>(table_),
-                                          raw<index_t>(face_new_face_offset_)});
-  thrust::fill(policy, face_new_face_offset_.begin() + f_count, face_new_face_offset_.end(), 0);
+  const count_new_faces count_faces{raw<std::uint16_t>(info_.face_state), raw<SplitCase>(table_),
+                                    raw<index_t>(face_new_face_offset_)};
+  for_each_index(n_count + e_count + f_count + 1,
+                 make_over_three_ranges(count_node_copies{sectors, node_extra_count},
+                                        count_edge_copies{sectors, raw<std::uint8_t>(info_.edge_point), edge_new_count},
+                                        count_face_copies_and_triangles{count_face_copies{sectors, face_new_count},
+                                                                        count_faces, f_count},
+                                        n_count, e_count));
+  thrust::exclusive_scan(policy, point_new_offset_.begin(), point_new_offset_.end(), point_new_offset_.begin());
   thrust::exclusive_scan(policy, face_new_face_offset_.begin(), face_new_face_offset_.end(), face_new_face_offset_.begin());
 
   // Both totals in one wait.
@@ -477,11 +477,15 @@ void Remesher<System>::write_new_nodes(DeviceCloth<System>& cloth, const CutOpti
   const index_t* node_extra_offset = raw<index_t>(point_new_offset_);
   const index_t* edge_new_offset = node_extra_offset + n_count;
   const index_t* face_new_offset = edge_new_offset + e_count;
-  for_each_index(n_count, write_node_sources{node_extra_offset, n_count, sources});
-  for_each_index(e_count, write_edge_sources{raw<index_t>(cloth.topo.edge_nodes), raw<float>(info_.edge_point_t),
-                                             edge_new_offset, n_count, sources});
-  for_each_index(f_count, write_face_sources{raw<index_t>(cloth.face_nodes), raw<float>(info_.face_point_bary),
-                                             face_new_offset, n_count, sources});
+  for_each_index(n_count + e_count + f_count,
+                 make_over_three_ranges(write_node_sources{node_extra_offset, n_count, sources},
+                                        write_edge_sources{raw<index_t>(cloth.topo.edge_nodes),
+                                                           raw<float>(info_.edge_point_t), edge_new_offset, n_count,
+                                                           sources},
+                                        write_face_sources{raw<index_t>(cloth.face_nodes),
+                                                           raw<float>(info_.face_point_bary), face_new_offset, n_count,
+                                                           sources},
+                                        n_count, e_count));
   check_written(options, node_source_, slots, index_t(-2), "the node write");
 }
 
@@ -528,9 +532,12 @@ void Remesher<System>::map_nodes(const DeviceCloth<System>& cloth, const CutOpti
   const index_t* node_extra_offset = raw<index_t>(point_new_offset_);
   const index_t* edge_new_offset = node_extra_offset + n_count;
   const index_t* face_new_offset = edge_new_offset + e_count;
-  for_each_index(n_count, map_node_copies{sectors, face_tri_offset, node_extra_offset, n_count, raw<index_t>(new_face_nodes_)});
-  for_each_index(e_count, map_edge_copies{sectors, face_tri_offset, edge_new_offset, n_count, raw<index_t>(new_face_nodes_)});
-  for_each_index(f_count, map_face_copies{sectors, face_tri_offset, face_new_offset, n_count, raw<index_t>(new_face_nodes_)});
+  index_t* corners_out = raw<index_t>(new_face_nodes_);
+  for_each_index(n_count + e_count + f_count,
+                 make_over_three_ranges(map_node_copies{sectors, face_tri_offset, node_extra_offset, n_count, corners_out},
+                                        map_edge_copies{sectors, face_tri_offset, edge_new_offset, n_count, corners_out},
+                                        map_face_copies{sectors, face_tri_offset, face_new_offset, n_count, corners_out},
+                                        n_count, e_count));
   check_written(options, new_face_nodes_, corners, index_t(-2), "the node mapping");
 }
 

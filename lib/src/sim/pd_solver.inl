@@ -350,12 +350,8 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
     frame_colliders_.resize(substeps * colliders_.size());
   }
 
+  // Masses (per node) and constraints (per edge) in one launch.
   resize_for_overwrite(node_mass_, node_count_);
-  thrust::for_each(
-      policy, zero, zero + node_count_,
-      compute_node_masses{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.node_face_offset),
-                          raw<index_t>(topo.node_faces), options_.density, raw<float>(node_mass_)});
-
   const index_t edge_count = topo.edge_count;
   constraint_count_ = 2 * edge_count;
   edge_count_ = edge_count;
@@ -364,12 +360,17 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
   resize_for_overwrite(hinge_coef_, pd_constraint_nodes * static_cast<std::size_t>(edge_count));
   for (auto* v : {&spring_weight_, &spring_rest_, &hinge_weight_, &hinge_rest_}) resize_for_overwrite(*v, edge_count);
   resize_for_overwrite(constraint_force_, 3 * static_cast<std::size_t>(constraint_count_));
-  thrust::for_each(policy, zero, zero + edge_count,
-                   make_pd_constraints{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.edge_nodes),
-                                       raw<index_t>(topo.edge_faces), raw<index_t>(topo.edge_face_count), edge_count,
-                                       options_.stretch_stiffness, options_.bend_stiffness, raw<index_t>(spring_nodes_),
-                                       raw<float>(spring_weight_), raw<float>(spring_rest_), raw<index_t>(hinge_nodes_),
-                                       raw<float>(hinge_coef_), raw<float>(hinge_weight_), raw<float>(hinge_rest_)});
+  thrust::for_each(
+      policy, zero, zero + node_count_ + edge_count,
+      make_over_three_ranges(
+          compute_node_masses{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.node_face_offset),
+                              raw<index_t>(topo.node_faces), options_.density, raw<float>(node_mass_)},
+          make_pd_constraints{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.edge_nodes),
+                              raw<index_t>(topo.edge_faces), raw<index_t>(topo.edge_face_count), edge_count,
+                              options_.stretch_stiffness, options_.bend_stiffness, raw<index_t>(spring_nodes_),
+                              raw<float>(spring_weight_), raw<float>(spring_rest_), raw<index_t>(hinge_nodes_),
+                              raw<float>(hinge_coef_), raw<float>(hinge_weight_), raw<float>(hinge_rest_)},
+          no_pass{}, node_count_, edge_count));
   active_constraint_count_ = -1;
 
   // Node→constraint CSR: the used slots counting-sorted by node, so a node's constraints come in

@@ -31,10 +31,9 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
 
   // Edges: counted at their lower node, numbered by a scan of the counts, written in (low, high)
   // order with their faces.
-  thrust::for_each(policy, zero, zero + node_count,
+  thrust::for_each(policy, zero, zero + node_count + 1,
                    count_node_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
-                                    raw<index_t>(topo.node_faces), raw<index_t>(node_tally)});
-  thrust::fill(policy, node_tally.begin() + node_count, node_tally.end(), 0);  // a launch, not a host write
+                                    raw<index_t>(topo.node_faces), raw<index_t>(node_tally), node_count});
   auto& node_edge_offset = scratch.node_edge_offset;
   resize_for_overwrite(node_edge_offset, nodes_and_end);
   thrust::exclusive_scan(policy, node_tally.begin(), node_tally.end(), node_edge_offset.begin());
