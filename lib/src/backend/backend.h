@@ -8,6 +8,7 @@
 #pragma once
 
 #include <algorithm>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <cstdlib>
@@ -147,6 +148,18 @@ struct Traits<Omp> {
   static void* allocate_staging(std::size_t n) { return std::malloc(n); }
   static void free_staging(void* p) { std::free(p); }
   static void copy_to_staging(void* host, const void* from, std::size_t n) { std::memcpy(host, from, n); }
+  /// A point in the backend's queue of work, to time what lies between two (`elapsed_ms`, once
+  /// both are passed). On the CPU the work is done when its call returns: the host's clock.
+  class QueueMark {
+   public:
+    void record() { at_ = std::chrono::steady_clock::now(); }
+    static double elapsed_ms(const QueueMark& a, const QueueMark& b) {
+      return std::chrono::duration<double, std::milli>(b.at_ - a.at_).count();
+    }
+
+   private:
+    std::chrono::steady_clock::time_point at_;
+  };
 };
 
 #if TEAR_CUDA_SYSTEM
@@ -268,6 +281,36 @@ struct Traits<Cuda> {
       throw std::bad_alloc();
     }
   }
+  /// A point in the default stream (a CUDA event), to time the device's work between two
+  /// (`elapsed_ms`, once the device has passed both) without waiting for it in between.
+  class QueueMark {
+   public:
+    QueueMark() = default;
+    QueueMark(const QueueMark&) = delete;
+    QueueMark& operator=(const QueueMark&) = delete;
+    ~QueueMark() {
+      if (event_) cudaEventDestroy(event_);
+    }
+    void record() {
+      if (!event_ && cudaEventCreate(&event_) != cudaSuccess) {
+        cudaGetLastError();
+        event_ = nullptr;
+        return;
+      }
+      cudaEventRecord(event_, 0);
+    }
+    static double elapsed_ms(const QueueMark& a, const QueueMark& b) {
+      float ms = 0;
+      if (!a.event_ || !b.event_ || cudaEventElapsedTime(&ms, a.event_, b.event_) != cudaSuccess) {
+        cudaGetLastError();
+        return 0;
+      }
+      return ms;
+    }
+
+   private:
+    cudaEvent_t event_ = nullptr;
+  };
 };
 #endif
 

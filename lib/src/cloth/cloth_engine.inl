@@ -160,23 +160,19 @@ class ClothEngine final : public Cloth::Engine {
       solver_->step_in_place(raw<float>(cloth_.node_pos), raw<float>(cloth_.node_vel), frame);
     } else {
       // Torn between substeps: the next substep steps the torn cloth with its new model. The check
-      // after each substep reads back a count, so waiting for the backend to time the parts costs
-      // nothing more.
+      // is queued behind the substep without waiting for it; marks in the backend's queue time the
+      // two apart.
       using Clock = std::chrono::steady_clock;
-      const auto ms = [](Clock::time_point a, Clock::time_point b) {
-        return std::chrono::duration<double, std::milli>(b - a).count();
-      };
       for (int s = 0; s < options_.substeps; ++s) {
         const Clock::time_point start = Clock::now();
         refresh_solver();
         Traits<System>::synchronize();
-        const Clock::time_point built = Clock::now();
+        last_tear_.rebuild_ms += std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+        substep_start_.record();
         solver_->step_substep_in_place(raw<float>(cloth_.node_pos), raw<float>(cloth_.node_vel), frame, s);
-        Traits<System>::synchronize();
-        const Clock::time_point stepped = Clock::now();
+        substep_end_.record();
         tear();
-        last_tear_.rebuild_ms += ms(start, built);
-        last_tear_.solver_ms += ms(built, stepped);
+        last_tear_.solver_ms += QueueMark::elapsed_ms(substep_start_, substep_end_);
       }
     }
     frames_stepped_ = frame;
@@ -331,10 +327,14 @@ class ClothEngine final : public Cloth::Engine {
     StageClock clock(false, stats.stage_ms.data());
     TearCut torn;
     using Clock = std::chrono::steady_clock;
-    const Clock::time_point start = Clock::now();
+    // The check reads back the number of faces that tear (so the device has passed the substep
+    // by then); where faces tear it lays their cut info too. Waited for, so that the apply's time
+    // is its own (where nothing tears, the read-back already waited).
     const bool over = remesher_.cut_info_from_strain(cloth_, options_.tearing, cut_options, torn, clock);
+    check_end_.record();
+    Traits<System>::synchronize();
     const Clock::time_point checked = Clock::now();
-    last_tear_.check_ms += std::chrono::duration<double, std::milli>(checked - start).count();
+    last_tear_.check_ms += QueueMark::elapsed_ms(substep_end_, check_end_);
     if (over && remesher_.apply_cut_info(cloth_, cut_options, stats, clock, false)) {
       solver_stale_ = true;
       reapply_box_pins();
@@ -364,6 +364,8 @@ class ClothEngine final : public Cloth::Engine {
   std::unique_ptr<PdSolver::Impl> solver_;     // the model of the mesh it was built for
   bool solver_stale_ = false;                  // a cut or tear changed the mesh since
   TearStats last_tear_;                        // what the last step tore
+  using QueueMark = typename Traits<System>::QueueMark;
+  QueueMark substep_start_, substep_end_, check_end_;  // a torn step's parts, timed in the backend's queue
 };
 
 template <class System>
