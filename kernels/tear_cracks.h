@@ -91,6 +91,20 @@ struct write_face_stretch {
   }
 };
 
+/// Per face: its crossings cleared (half-edge hits and pairs), before the cracks are written.
+struct clear_crossings {
+  double* half_hit_sum;
+  index_t* half_hit_count;
+  std::uint16_t* face_pairs;
+  TEAR_HD void operator()(index_t f) const {
+    for (int k = 0; k < 3; ++k) {
+      half_hit_sum[3 * f + k] = 0;
+      half_hit_count[3 * f + k] = 0;
+    }
+    face_pairs[f] = 0;
+  }
+};
+
 /// Face f ranks before face g: more stretched, or as stretched and of a lower index.
 TEAR_HD inline bool tears_before(const double* face_stretch, index_t f, index_t g) {
   return face_stretch[f] > face_stretch[g] || (face_stretch[f] == face_stretch[g] && f < g);

@@ -159,20 +159,32 @@ class ClothEngine final : public Cloth::Engine {
       refresh_solver();
       solver_->step_in_place(raw<float>(cloth_.node_pos), raw<float>(cloth_.node_vel), frame);
     } else {
-      // Torn between substeps: the next substep steps the torn cloth with its new model. The check
-      // is queued behind the substep without waiting for it; marks in the backend's queue time the
-      // two apart.
-      using Clock = std::chrono::steady_clock;
-      for (int s = 0; s < options_.substeps; ++s) {
-        const Clock::time_point start = Clock::now();
+      // Torn between substeps: the next substep steps the torn cloth with its new model. Nothing
+      // waits for the device but the read-backs the stages need; marks in the backend's queue time
+      // the parts, read once the step's work is done.
+      const int substeps = options_.substeps;
+      if (step_mark_count_ < substeps) {
+        step_marks_ = std::make_unique<StepMarks[]>(static_cast<std::size_t>(substeps));
+        step_mark_count_ = substeps;
+      }
+      for (int s = 0; s < substeps; ++s) {
+        StepMarks& m = step_marks_[s];
+        m.rebuilt = !solver_ || solver_stale_;
+        if (m.rebuilt) m.rebuild_start.record();
         refresh_solver();
-        Traits<System>::synchronize();
-        last_tear_.rebuild_ms += std::chrono::duration<double, std::milli>(Clock::now() - start).count();
-        substep_start_.record();
+        if (m.rebuilt) m.rebuild_end.record();
+        m.substep_start.record();
         solver_->step_substep_in_place(raw<float>(cloth_.node_pos), raw<float>(cloth_.node_vel), frame, s);
-        substep_end_.record();
-        tear();
-        last_tear_.solver_ms += QueueMark::elapsed_ms(substep_start_, substep_end_);
+        m.substep_end.record();
+        m.applied = tear(m);
+      }
+      Traits<System>::synchronize();
+      for (int s = 0; s < substeps; ++s) {
+        const StepMarks& m = step_marks_[s];
+        if (m.rebuilt) last_tear_.rebuild_ms += QueueMark::elapsed_ms(m.rebuild_start, m.rebuild_end);
+        last_tear_.solver_ms += QueueMark::elapsed_ms(m.substep_start, m.substep_end);
+        last_tear_.check_ms += QueueMark::elapsed_ms(m.substep_end, m.check_end);
+        if (m.applied) last_tear_.apply_ms += QueueMark::elapsed_ms(m.check_end, m.apply_end);
       }
     }
     frames_stepped_ = frame;
@@ -320,31 +332,26 @@ class ClothEngine final : public Cloth::Engine {
   }
 
   /// Tears the faces stretched beyond the limit, as a cut would split them (docs/simulation.md).
-  void tear() {
+  /// Marks the end of the check and, where faces tore, of their application in `m`; returns
+  /// whether it applied a tear.
+  template <class Marks>
+  bool tear(Marks& m) {
     CutOptions cut_options;
     cut_options.snap = options_.tearing.snap;
     CutStats stats;
     StageClock clock(false, stats.stage_ms.data());
     TearCut torn;
-    using Clock = std::chrono::steady_clock;
-    // The check reads back the number of faces that tear (so the device has passed the substep
-    // by then); where faces tear it lays their cut info too. Waited for, so that the apply's time
-    // is its own (where nothing tears, the read-back already waited).
     const bool over = remesher_.cut_info_from_strain(cloth_, options_.tearing, cut_options, torn, clock);
-    check_end_.record();
-    Traits<System>::synchronize();
-    const Clock::time_point checked = Clock::now();
-    last_tear_.check_ms += QueueMark::elapsed_ms(substep_end_, check_end_);
-    if (over && remesher_.apply_cut_info(cloth_, cut_options, stats, clock, false)) {
+    m.check_end.record();
+    if (!over) return false;
+    if (remesher_.apply_cut_info(cloth_, cut_options, stats, clock, false)) {
       solver_stale_ = true;
       reapply_box_pins();
       last_tear_.events += torn.faces;
       last_tear_.length += remesher_.tear_length();
     }
-    if (over) {
-      Traits<System>::synchronize();
-      last_tear_.apply_ms += std::chrono::duration<double, std::milli>(Clock::now() - checked).count();
-    }
+    m.apply_end.record();
+    return true;
   }
 
   void reapply_box_pins() {
@@ -365,7 +372,14 @@ class ClothEngine final : public Cloth::Engine {
   bool solver_stale_ = false;                  // a cut or tear changed the mesh since
   TearStats last_tear_;                        // what the last step tore
   using QueueMark = typename Traits<System>::QueueMark;
-  QueueMark substep_start_, substep_end_, check_end_;  // a torn step's parts, timed in the backend's queue
+  /// A torn substep's parts, marked in the backend's queue: the model's rebuild (where the mesh
+  /// changed), the substep, the check, the tear's application (where faces tore).
+  struct StepMarks {
+    QueueMark rebuild_start, rebuild_end, substep_start, substep_end, check_end, apply_end;
+    bool rebuilt = false, applied = false;
+  };
+  std::unique_ptr<StepMarks[]> step_marks_;  // [step_mark_count_], one per substep
+  int step_mark_count_ = 0;
 };
 
 template <class System>

@@ -312,9 +312,8 @@ bool Remesher<System>::cut_info_from_strain(const DeviceCloth<System>& cloth, co
   resize_for_overwrite(half_hit_sum_, 3 * std::size_t(f_count));
   resize_for_overwrite(half_hit_count_, 3 * std::size_t(f_count));
   resize_for_overwrite(face_pairs_, f_count);
-  thrust::fill(policy, half_hit_sum_.begin(), half_hit_sum_.end(), 0.0);
-  thrust::fill(policy, half_hit_count_.begin(), half_hit_count_.end(), index_t(0));
-  thrust::fill(policy, face_pairs_.begin(), face_pairs_.end(), std::uint16_t(0));
+  for_each_index(f_count, clear_crossings{raw<double>(half_hit_sum_), raw<index_t>(half_hit_count_),
+                                         raw<std::uint16_t>(face_pairs_)});
   resize_for_overwrite(crack_length_, count);
   for_each_index(
       count,
