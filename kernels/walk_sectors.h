@@ -51,13 +51,40 @@ TEAR_HD inline void walk_face_fan(const SectorMesh& m, index_t f, int slot, Visi
 /// True when no cut line meets node n: no split of its faces has a cut in the node's fan, and no
 /// edge at it carries a cut line along its half at n. Its walk would cross no cut (one sector);
 /// finding so takes loads that do not wait on each other, where the walk is a chain of them.
+/// The faces are taken `chunk` at a time, each level of loads issued for the whole chunk before
+/// any is used.
 TEAR_HD inline bool node_uncut(const SectorMesh& m, index_t n) {
-  for (index_t i = m.node_face_offset[n]; i < m.node_face_offset[n + 1]; ++i) {
-    const index_t f = m.node_faces[i];
-    const int k = corner_of(m.face_nodes, f, n);
-    if (split_case(m.table, m.face_state[f]).fan_cut[k]) return false;
-    if (edge_half_cut(m, m.face_edges[3 * f + (k + 1) % 3], n) || edge_half_cut(m, m.face_edges[3 * f + (k + 2) % 3], n))
-      return false;
+  constexpr int chunk = 8;
+  const index_t begin = m.node_face_offset[n], end = m.node_face_offset[n + 1];
+  for (index_t base = begin; base < end; base += chunk) {
+    const index_t left = end - base;
+    index_t f[chunk];
+    TEAR_UNROLL
+    for (int j = 0; j < chunk; ++j) f[j] = j < left ? m.node_faces[base + j] : -1;
+    int corner[chunk];
+    std::uint16_t state[chunk];
+    index_t edge[chunk][2];
+    TEAR_UNROLL
+    for (int j = 0; j < chunk; ++j) {
+      corner[j] = 0;
+      state[j] = 0;
+      edge[j][0] = edge[j][1] = -1;
+      if (f[j] < 0) continue;
+      const int k = corner_of(m.face_nodes, f[j], n);
+      corner[j] = k;
+      state[j] = m.face_state[f[j]];
+      edge[j][0] = m.face_edges[3 * f[j] + (k + 1) % 3];
+      edge[j][1] = m.face_edges[3 * f[j] + (k + 2) % 3];
+    }
+    bool cut = false;
+    TEAR_UNROLL
+    for (int j = 0; j < chunk; ++j) {
+      if (f[j] < 0) continue;
+      // `|`, not `||`: every load of the chunk is issued, none waits on another's result.
+      cut = cut | (split_case(m.table, state[j]).fan_cut[corner[j]] != 0) | edge_half_cut(m, edge[j][0], n) |
+            edge_half_cut(m, edge[j][1], n);
+    }
+    if (cut) return false;
   }
   return true;
 }
