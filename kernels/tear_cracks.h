@@ -143,19 +143,6 @@ struct is_chosen {
   TEAR_HD bool operator()(index_t f) const { return chosen[f] != 0; }
 };
 
-/// Node n lies on the border: one of its faces has a border edge at it.
-TEAR_HD inline bool node_on_border(const index_t* face_nodes, const index_t* face_edges, const index_t* edge_faces,
-                                   const index_t* node_face_offset, const index_t* node_faces, index_t n) {
-  for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) {
-    const index_t g = node_faces[i];
-    const int j = face_nodes[3 * g] == n ? 0 : face_nodes[3 * g + 1] == n ? 1 : 2;
-    // The edges at local node j are local edges j+1 and j+2.
-    if (edge_faces[2 * face_edges[3 * g + (j + 1) % 3] + 1] < 0) return true;
-    if (edge_faces[2 * face_edges[3 * g + (j + 2) % 3] + 1] < 0) return true;
-  }
-  return false;
-}
-
 /// Per chosen face (one thread each, `chosen` [count]): the crack through it, written as cut
 /// crossings into `half_hit_sum` / `half_hit_count` [face_count * 3] and `face_pairs`
 /// [face_count], all zero beforehand.
@@ -173,8 +160,7 @@ struct write_cracks {
   const index_t* face_nodes;
   const index_t* face_edges;
   const index_t* edge_faces;
-  const index_t* node_face_offset;
-  const index_t* node_faces;
+  const std::uint8_t* node_boundary;  ///< [node_count] 1 for a node on a border edge (the topology's)
   const float* node_rest;
   const float* node_pos;
   double* half_hit_sum;
@@ -206,7 +192,7 @@ struct write_cracks {
     int tip = -1;
     double tip_t = 0, best = 2;
     for (int k = 0; k < 3; ++k) {
-      if (!node_on_border(face_nodes, face_edges, edge_faces, node_face_offset, node_faces, node[k])) continue;
+      if (!node_boundary[node[k]]) continue;
       const int a = (k + 1) % 3, b = (k + 2) % 3;
       double sa = 0, sb = 0;
       for (int d = 0; d < 3; ++d) {

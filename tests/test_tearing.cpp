@@ -270,7 +270,7 @@ TEST_CASE("tearing: every error names the file and the key path", "[tearing]") {
 TEST_CASE("tear_cracks: a triangle stretched along x cracks across x through its centroid", "[tearing]") {
   // The example of kernels/tear_cracks.h: one face, every edge on the border.
   const index_t face_nodes[] = {0, 1, 2}, face_edges[] = {0, 1, 2}, edge_faces[] = {0, -1, 0, -1, 0, -1};
-  const index_t node_face_offset[] = {0, 1, 2, 3}, node_faces[] = {0, 0, 0};
+  const std::uint8_t node_boundary[] = {1, 1, 1};
   const float node_rest[] = {0, 0, 0, 1, 0, 0, 0, 1, 0}, node_pos[] = {0, 0, 0, 1.5f, 0, 0, 0, 1, 0};
   double r[3];
   CHECK(tear::kernels::face_principal_stretch(face_nodes, node_rest, node_pos, 0, r) == Approx(1.5));
@@ -281,9 +281,9 @@ TEST_CASE("tear_cracks: a triangle stretched along x cracks across x through its
   double half_hit_sum[3] = {0, 0, 0}, crack_length[1] = {0};
   index_t half_hit_count[3] = {0, 0, 0};
   std::uint16_t face_pairs[1] = {0};
-  const tear::kernels::write_cracks write{chosen,           face_nodes,     face_edges, edge_faces,
-                                          node_face_offset, node_faces,     node_rest,  node_pos,
-                                          half_hit_sum,     half_hit_count, face_pairs, crack_length};
+  const tear::kernels::write_cracks write{chosen,        face_nodes,   face_edges,     edge_faces, node_boundary,
+                                          node_rest,     node_pos,     half_hit_sum,   half_hit_count,
+                                          face_pairs,    crack_length};
   write(0);
   CHECK(half_hit_sum[0] == Approx(2.0 / 3));
   CHECK(half_hit_sum[2] == Approx(1.0 / 3));

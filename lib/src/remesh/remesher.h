@@ -318,8 +318,8 @@ bool Remesher<System>::cut_info_from_strain(const DeviceCloth<System>& cloth, co
   for_each_index(
       count,
       write_cracks{raw<index_t>(tear_faces_), raw<index_t>(cloth.face_nodes), raw<index_t>(topo.face_edges),
-                   raw<index_t>(topo.edge_faces), raw<index_t>(topo.node_face_offset), raw<index_t>(topo.node_faces),
-                   raw<float>(cloth.node_rest), raw<float>(cloth.node_pos), raw<double>(half_hit_sum_),
+                   raw<index_t>(topo.edge_faces), raw<std::uint8_t>(topo.node_boundary), raw<float>(cloth.node_rest),
+                   raw<float>(cloth.node_pos), raw<double>(half_hit_sum_),
                    raw<index_t>(half_hit_count_), raw<std::uint16_t>(face_pairs_), raw<double>(crack_length_)});
   clock.mark<System>(CutStage::intersection);
   // Copied back without waiting: the wait for the cut's counts brings them.
