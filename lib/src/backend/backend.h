@@ -13,6 +13,8 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <map>
+#include <mutex>
 #include <new>
 #include <type_traits>
 #include <vector>
@@ -146,7 +148,7 @@ struct Traits<Omp> {
   /// Host memory that backend memory is copied into without waiting (`ReadBack`): plain memory,
   /// and the copy is done when it returns.
   static void* allocate_staging(std::size_t n) { return std::malloc(n); }
-  static void free_staging(void* p) { std::free(p); }
+  static void free_staging(void* p, std::size_t) { std::free(p); }
   static void copy_to_staging(void* host, const void* from, std::size_t n) { std::memcpy(host, from, n); }
   /// A point in the backend's queue of work, to time what lies between two (`elapsed_ms`, once
   /// both are passed). On the CPU the work is done when its call returns: the host's clock.
@@ -253,6 +255,18 @@ struct Traits<Cuda> {
     return thrust::cuda::par_nosync(alloc);
   }
   static void synchronize() { cudaStreamSynchronize(0); }
+
+ private:
+  struct StagingPool {
+    std::mutex mutex;
+    std::multimap<std::size_t, void*> free;  // by size
+  };
+  static StagingPool& staging_pool() {
+    static StagingPool* pool = new StagingPool;  // never destroyed: its blocks outlive every cloth
+    return *pool;
+  }
+
+ public:
   static void* allocate_bytes(std::size_t n) {
     void* p = nullptr;
     if (cudaMalloc(&p, n) != cudaSuccess) return nullptr;
@@ -264,8 +278,20 @@ struct Traits<Cuda> {
     count_release(Device::cuda, n);
   }
   /// Page-locked host memory: a copy into it is queued on the default stream behind the stages
-  /// and the host goes on (into pageable memory the copy would wait for the device first).
+  /// and the host goes on (into pageable memory the copy would wait for the device first). Blocks
+  /// are kept for the process's lifetime and handed out again: cudaMallocHost takes about a
+  /// millisecond, which a cloth made for one cut would otherwise pay at its cut.
   static void* allocate_staging(std::size_t n) {
+    StagingPool& pool = staging_pool();
+    {
+      const std::lock_guard<std::mutex> lock(pool.mutex);
+      const auto free = pool.free.lower_bound(n);
+      if (free != pool.free.end()) {
+        void* p = free->second;
+        pool.free.erase(free);
+        return p;
+      }
+    }
     void* p = nullptr;
     if (cudaMallocHost(&p, n) != cudaSuccess) {
       cudaGetLastError();
@@ -273,7 +299,12 @@ struct Traits<Cuda> {
     }
     return p;
   }
-  static void free_staging(void* p) { cudaFreeHost(p); }
+  /// `n`: the size `p` was asked for.
+  static void free_staging(void* p, std::size_t n) {
+    StagingPool& pool = staging_pool();
+    const std::lock_guard<std::mutex> lock(pool.mutex);
+    pool.free.emplace(n, p);
+  }
   static void copy_to_staging(void* host, const void* from, std::size_t n) {
     const cudaError_t status = cudaMemcpyAsync(host, from, n, cudaMemcpyDeviceToHost, 0);
     if (status != cudaSuccess) {
@@ -361,7 +392,7 @@ class ReadBack {
   ReadBack(const ReadBack&) = delete;
   ReadBack& operator=(const ReadBack&) = delete;
   ~ReadBack() {
-    if (data_) Traits<System>::free_staging(data_);
+    if (data_) Traits<System>::free_staging(data_, capacity_);
   }
 
   /// Starts a new batch (what was queued before is forgotten).
@@ -395,7 +426,7 @@ class ReadBack {
     if (data_) {
       wait();  // the copies already queued land in the old memory
       std::memcpy(next, data_, used_);
-      Traits<System>::free_staging(data_);
+      Traits<System>::free_staging(data_, capacity_);
     }
     data_ = next;
     capacity_ = capacity;
