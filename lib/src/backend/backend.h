@@ -16,18 +16,22 @@
 #include <map>
 #include <mutex>
 #include <new>
+#include <string>
 #include <type_traits>
 #include <vector>
 
 #include <thrust/copy.h>
 #include <thrust/detail/config.h>
 #include <thrust/fill.h>
+#include <thrust/for_each.h>
+#include <thrust/iterator/counting_iterator.h>
 #include <thrust/system/omp/execution_policy.h>
 #include <thrust/system/omp/vector.h>
 
 #include "backend/device_memory.h"
 #include "backend/systems.h"
 #include "hd.h"
+#include "tear/error.h"
 
 #if TEAR_WITH_CUDA && defined(__CUDACC__)
 #include <thrust/system/cuda/execution_policy.h>
@@ -347,6 +351,38 @@ struct Traits<Cuda> {
 
 template <class System, class T>
 using vector = typename Traits<System>::template vector<T>;
+
+#if TEAR_CUDA_SYSTEM
+namespace detail {
+template <class F>
+__global__ void for_each_index_kernel(F f, index_t count) {
+  const index_t i = static_cast<index_t>(blockIdx.x * blockDim.x + threadIdx.x);
+  if (i < count) f(i);
+}
+}  // namespace detail
+#endif
+
+/// Runs f(i) for every i in [0, count) on `System`'s backend, queued behind the work before it.
+/// On CUDA one element per thread in blocks of 128: Thrust's for_each gives each thread two
+/// elements one after the other, which doubles a pass whose elements each wait on a chain of
+/// loads (the per-node passes of a cut, the topology and the solver's model), and on a mesh of a
+/// few thousand nodes leaves most of the device's multiprocessors idle.
+template <class System, class F>
+void for_each_index(index_t count, const F& f) {
+  if (count <= 0) return;
+#if TEAR_CUDA_SYSTEM
+  if constexpr (std::is_same<System, Cuda>::value) {
+    constexpr int block = 128;
+    detail::for_each_index_kernel<<<(count + block - 1) / block, block>>>(f, count);
+    const cudaError_t status = cudaGetLastError();
+    if (status != cudaSuccess)
+      throw runtime_error(std::string("a kernel could not be launched: ") + cudaGetErrorString(status));
+    return;
+  }
+#endif
+  thrust::for_each(Traits<System>::policy(), thrust::counting_iterator<index_t>(0),
+                   thrust::counting_iterator<index_t>(count), f);
+}
 
 /// Resizes `v` to `n` elements for its stage to write them all: new elements are left unwritten
 /// (`Vector::resize_for_overwrite`). When an allocated vector must grow, its capacity becomes n

@@ -132,8 +132,7 @@ class Remesher {
  private:
   template <class F>
   void for_each_index(index_t count, F f) {
-    thrust::counting_iterator<index_t> zero(0);
-    thrust::for_each(Traits<System>::policy(), zero, zero + count, f);
+    backend::for_each_index<System>(count, f);
   }
   void upload_cuts(const std::vector<CutLine>& cuts);
   /// §2.1 after the crossings: snapped edge points, face and edge cut info.

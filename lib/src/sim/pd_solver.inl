@@ -336,7 +336,6 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
                                      const DeviceTopology<System>& topo) {
   using namespace kernels;
   const auto policy = Traits<System>::policy();
-  const thrust::counting_iterator<index_t> zero(0);
   thrust::copy(policy, node_rest.begin(), node_rest.end(), node_pos_.begin());
   bool keyed_pins = false;
   for (const Pin& p : options_.pins) keyed_pins = keyed_pins || !p.keys.empty();
@@ -360,8 +359,7 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
   resize_for_overwrite(hinge_coef_, pd_constraint_nodes * static_cast<std::size_t>(edge_count));
   for (auto* v : {&spring_weight_, &spring_rest_, &hinge_weight_, &hinge_rest_}) resize_for_overwrite(*v, edge_count);
   resize_for_overwrite(constraint_force_, 3 * static_cast<std::size_t>(constraint_count_));
-  thrust::for_each(
-      policy, zero, zero + node_count_ + edge_count,
+  for_each_index<System>(node_count_ + edge_count,
       make_over_three_ranges(
           compute_node_masses{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.node_face_offset),
                               raw<index_t>(topo.node_faces), options_.density, raw<float>(node_mass_)},
@@ -382,8 +380,7 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
 
   const double h = options_.step_seconds();
   resize_for_overwrite(node_diag_, node_count_);
-  thrust::for_each(
-      policy, zero, zero + node_count_,
+  for_each_index<System>(node_count_,
       compute_jacobi_diagonal{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), model, raw<float>(node_mass_),
                               static_cast<float>(1.0 / (h * h)),
                               raw<float>(node_diag_)});

@@ -19,7 +19,6 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
   const auto policy = Traits<System>::policy(alloc);
   const index_t face_count = static_cast<index_t>(face_nodes.size() / 3);
   const index_t half_count = 3 * face_count;
-  thrust::counting_iterator<index_t> zero(0);
   topo.node_count = node_count;
   topo.face_count = face_count;
   const std::size_t nodes_and_end = static_cast<std::size_t>(node_count) + 1;
@@ -31,7 +30,7 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
 
   // Edges: counted at their lower node, numbered by a scan of the counts, written in (low, high)
   // order with their faces.
-  thrust::for_each(policy, zero, zero + node_count + 1,
+  for_each_index<System>(node_count + 1,
                    count_node_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
                                     raw<index_t>(topo.node_faces), raw<index_t>(node_tally), node_count});
   auto& node_edge_offset = scratch.node_edge_offset;
@@ -43,18 +42,18 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
   resize_for_overwrite(topo.edge_faces, 2 * static_cast<std::size_t>(edge_count));
   resize_for_overwrite(topo.edge_face_count, edge_count);
   resize_for_overwrite(topo.edge_boundary, edge_count);
-  thrust::for_each(policy, zero, zero + node_count,
+  for_each_index<System>(node_count,
                    write_node_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
                                     raw<index_t>(topo.node_faces), raw<index_t>(node_edge_offset),
                                     raw<index_t>(topo.edge_nodes), raw<index_t>(topo.edge_faces),
                                     raw<index_t>(topo.edge_face_count), raw<std::uint8_t>(topo.edge_boundary)});
   resize_for_overwrite(topo.face_edges, half_count);
-  thrust::for_each(policy, zero, zero + half_count,
+  for_each_index<System>(half_count,
                    write_face_edges{raw<index_t>(face_nodes), raw<index_t>(node_edge_offset),
                                     raw<index_t>(topo.edge_nodes), raw<index_t>(topo.face_edges)});
 
   resize_for_overwrite(topo.node_boundary, node_count);
-  thrust::for_each(policy, zero, zero + node_count,
+  for_each_index<System>(node_count,
                    flag_boundary_nodes{raw<index_t>(face_nodes), raw<index_t>(topo.face_edges), raw<index_t>(topo.node_face_offset),
                                        raw<index_t>(topo.node_faces), raw<std::uint8_t>(topo.edge_boundary), raw<std::uint8_t>(topo.node_boundary)});
 }

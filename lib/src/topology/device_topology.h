@@ -47,18 +47,17 @@ template <class System, class Policy, class Items>
 void build_csr_by_counting(const Policy& policy, Items items, index_t item_count, index_t key_count,
                            index_t value_count, vector<System, index_t>& tally, vector<System, index_t>& offset,
                            vector<System, index_t>& values) {
-  const thrust::counting_iterator<index_t> zero(0);
   const std::size_t ends = static_cast<std::size_t>(key_count) + 1;
   resize_for_overwrite(tally, ends);
   thrust::fill(policy, tally.begin(), tally.end(), 0);
-  thrust::for_each(policy, zero, zero + item_count, kernels::count_keys<Items>{items, raw<index_t>(tally)});
+  for_each_index<System>(item_count, kernels::count_keys<Items>{items, raw<index_t>(tally)});
   resize_for_overwrite(offset, ends);
   thrust::exclusive_scan(policy, tally.begin(), tally.end(), offset.begin());
   thrust::copy(policy, offset.begin(), offset.end(), tally.begin());  // the cursors
   resize_for_overwrite(values, value_count >= 0 ? value_count : static_cast<index_t>(offset[key_count]));
-  thrust::for_each(policy, zero, zero + item_count,
+  for_each_index<System>(item_count,
                    kernels::fill_by_key<Items>{items, raw<index_t>(tally), raw<index_t>(values)});
-  thrust::for_each(policy, zero, zero + key_count, kernels::sort_runs{raw<index_t>(offset), raw<index_t>(values)});
+  for_each_index<System>(key_count, kernels::sort_runs{raw<index_t>(offset), raw<index_t>(values)});
 }
 
 /// Working arrays of `build_device_topology`, kept between builds so they only grow.
