@@ -137,8 +137,11 @@ double reference_number(const char* s, const char* end, bool& parsed) {
       read = 0;
       more = curr != end;
       while (more && is_digit(*curr)) {
-        if (exponent > 2147483647 / 10) return 0.0;
-        exponent = exponent * 10 + static_cast<int>(*curr - '0');
+        // An exponent past the largest int fails the number, as tinyobjloader's check means to
+        // (its check lets 2147483648 and 2147483649 through into a signed overflow).
+        const int digit = static_cast<int>(*curr - '0');
+        if (exponent > (2147483647 - digit) / 10) return 0.0;
+        exponent = exponent * 10 + digit;
         ++curr;
         ++read;
         more = curr != end;
