@@ -68,59 +68,39 @@ struct sort_runs {
   static constexpr int local_capacity = 32;
   const index_t* offset;
   index_t* values;
+  TEAR_HD static void insertion_sort(index_t* a, index_t size) {
+    for (index_t i = 1; i < size; ++i) {
+      const index_t v = a[i];
+      index_t j = i;
+      for (; j > 0 && a[j - 1] > v; --j) a[j] = a[j - 1];
+      a[j] = v;
+    }
+  }
   TEAR_HD void operator()(index_t n) const {
-    const index_t begin = offset[n], end = offset[n + 1];
-    if (end - begin <= local_capacity) {
-      index_t run[local_capacity];
-      const int size = static_cast<int>(end - begin);
-      for (int i = 0; i < size; ++i) run[i] = values[begin + i];
-      for (int i = 1; i < size; ++i) {
-        const index_t v = run[i];
-        int j = i;
-        for (; j > 0 && run[j - 1] > v; --j) run[j] = run[j - 1];
-        run[j] = v;
-      }
-      for (int i = 0; i < size; ++i) values[begin + i] = run[i];
+    const index_t begin = offset[n], size = offset[n + 1] - begin;
+    if (size > local_capacity) {
+      insertion_sort(values + begin, size);
       return;
     }
-    for (index_t i = begin + 1; i < end; ++i) {
-      const index_t v = values[i];
-      index_t j = i;
-      for (; j > begin && values[j - 1] > v; --j) values[j] = values[j - 1];
-      values[j] = v;
-    }
+    index_t run[local_capacity];
+    for (index_t i = 0; i < size; ++i) run[i] = values[begin + i];
+    insertion_sort(run, size);
+    for (index_t i = 0; i < size; ++i) values[begin + i] = run[i];
   }
 };
 
 /// Calls visit(hi, f) for each half-edge (n, hi) of node n's faces whose lower end is n, faces
 /// ascending (a face repeating n visited once), local edges in order; stops when visit returns false.
-///
-/// The faces are taken `chunk` at a time: their numbers, then their nodes, loaded before any is
-/// looked at, so that the loads of a chunk wait for the device's memory once, not once each.
 template <class Visit>
 TEAR_HD inline void for_each_lower_half_edge(const index_t* face_nodes, const index_t* node_face_offset,
                                              const index_t* node_faces, index_t n, Visit visit) {
-  constexpr int chunk = 8;
-  const index_t begin = node_face_offset[n], end = node_face_offset[n + 1];
-  index_t previous = -1;  // the face before, to skip a face repeating n
-  for (index_t base = begin; base < end; base += chunk) {
-    const index_t left = end - base;
-    index_t f[chunk], v[chunk][3];
-    TEAR_UNROLL
-    for (int j = 0; j < chunk; ++j) f[j] = j < left ? node_faces[base + j] : -1;
-    TEAR_UNROLL
-    for (int j = 0; j < chunk; ++j)
-      for (int c = 0; c < 3; ++c) v[j][c] = f[j] >= 0 ? face_nodes[3 * f[j] + c] : -1;
-    TEAR_UNROLL
-    for (int j = 0; j < chunk; ++j) {
-      if (j >= left) break;
-      if (f[j] == previous) continue;  // a face repeating n, seen
-      previous = f[j];
-      for (int k = 0; k < 3; ++k) {
-        const index_t p = v[j][(k + 1) % 3], q = v[j][(k + 2) % 3];
-        const index_t lo = p < q ? p : q, hi = p < q ? q : p;
-        if (lo == n && !visit(hi, f[j])) return;
-      }
+  for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) {
+    const index_t f = node_faces[i];
+    if (i > node_face_offset[n] && node_faces[i - 1] == f) continue;  // a face repeating n, seen
+    for (int k = 0; k < 3; ++k) {
+      index_t lo, hi;
+      half_edge_nodes(face_nodes, f, k, lo, hi);
+      if (lo == n && !visit(hi, f)) return;
     }
   }
 }

@@ -432,7 +432,10 @@ class ReadBack {
   }
 
   /// Starts a new batch (what was queued before is forgotten).
-  void clear() { used_ = 0; }
+  void clear() {
+    wait();  // a copy still under way must not land in memory the new batch reuses
+    used_ = 0;
+  }
 
   /// Queues a copy of `count` values at backend address `from`; returns the offset `at` takes.
   template <class T>
@@ -440,13 +443,21 @@ class ReadBack {
     const std::size_t offset = (used_ + alignof(std::max_align_t) - 1) / alignof(std::max_align_t) * alignof(std::max_align_t);
     const std::size_t bytes = count * sizeof(T);
     if (offset + bytes > capacity_) grow(offset + bytes);
-    if (bytes > 0) Traits<System>::copy_to_staging(data_ + offset, from, bytes);
+    if (bytes > 0) {
+      Traits<System>::copy_to_staging(data_ + offset, from, bytes);
+      pending_ = true;
+    }
     used_ = offset + bytes;
     return offset;
   }
 
-  /// Waits for the copies queued (and everything queued on the backend before them).
-  void wait() const { Traits<System>::synchronize(); }
+  /// Waits for the copies queued (and everything queued on the backend before them); waits for
+  /// nothing when none was queued since the last wait.
+  void wait() {
+    if (!pending_) return;
+    Traits<System>::synchronize();
+    pending_ = false;
+  }
 
   /// The values queued at `offset`, after `wait`.
   template <class T>
@@ -470,6 +481,7 @@ class ReadBack {
 
   char* data_ = nullptr;
   std::size_t capacity_ = 0, used_ = 0;
+  bool pending_ = false;  // copies queued since the last wait
 };
 
 template <class T, class Vector>

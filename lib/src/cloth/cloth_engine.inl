@@ -331,11 +331,18 @@ class ClothEngine final : public Cloth::Engine {
     solver_stale_ = false;
   }
 
+  using QueueMark = typename Traits<System>::QueueMark;
+  /// A torn substep's parts, marked in the backend's queue: the model's rebuild (where the mesh
+  /// changed), the substep, the check, the tear's application (where faces tore).
+  struct StepMarks {
+    QueueMark rebuild_start, rebuild_end, substep_start, substep_end, check_end, apply_end;
+    bool rebuilt = false, applied = false;
+  };
+
   /// Tears the faces stretched beyond the limit, as a cut would split them (docs/simulation.md).
   /// Marks the end of the check and, where faces tore, of their application in `m`; returns
   /// whether it applied a tear.
-  template <class Marks>
-  bool tear(Marks& m) {
+  bool tear(StepMarks& m) {
     CutOptions cut_options;
     cut_options.snap = options_.tearing.snap;
     CutStats stats;
@@ -371,13 +378,6 @@ class ClothEngine final : public Cloth::Engine {
   std::unique_ptr<PdSolver::Impl> solver_;     // the model of the mesh it was built for
   bool solver_stale_ = false;                  // a cut or tear changed the mesh since
   TearStats last_tear_;                        // what the last step tore
-  using QueueMark = typename Traits<System>::QueueMark;
-  /// A torn substep's parts, marked in the backend's queue: the model's rebuild (where the mesh
-  /// changed), the substep, the check, the tear's application (where faces tore).
-  struct StepMarks {
-    QueueMark rebuild_start, rebuild_end, substep_start, substep_end, check_end, apply_end;
-    bool rebuilt = false, applied = false;
-  };
   std::unique_ptr<StepMarks[]> step_marks_;  // [step_mark_count_], one per substep
   int step_mark_count_ = 0;
 };

@@ -81,12 +81,10 @@ struct CutInfo {
   vec<float> face_point_bary;      ///< [face_count * 3] face point, where the face has one
 };
 
-/// What `cut_info_from_strain` tears: the faces it cracks and the cracks' rest length (metres,
-/// before snapping: the segments through the chosen faces and on into the faces across them).
-/// The length is `Remesher::tear_length`'s, read back with the cut's counts.
+/// What `cut_info_from_strain` tears: the faces it cracks. Their cracks' rest length is
+/// `Remesher::tear_length`'s, read back with the cut's counts.
 struct TearCut {
   index_t faces = 0;
-  double length = 0;
 };
 
 template <class System>
@@ -108,8 +106,9 @@ class Remesher {
   bool cut_info_from_strain(const DeviceCloth<System>& cloth, const TearingOptions& tearing, const CutOptions& options,
                             TearCut& torn, StageClock& clock);
 
-  /// The rest length of the cracks `cut_info_from_strain` laid last, summed in rank order (the same
-  /// sum every run); waits for them when `apply_cut_info` has not.
+  /// The rest length of the cracks `cut_info_from_strain` laid last (metres, before snapping: the
+  /// segments through the chosen faces and on into the faces across them), summed in rank order
+  /// (the same sum every run); waits for them only when `apply_cut_info` has not.
   double tear_length();
 
   /// §2.2–2.4: applies the cut info to `cloth` in place. Returns false when it splits nothing (the
