@@ -29,26 +29,20 @@
 namespace tear::backend {
 
 /// How the CUDA backend launches a substep, from TEAR_CUDA_LAUNCH: `persistent` (the default: one
-/// kernel runs the whole substep, as `cluster` on a mesh that one thread-block cluster covers in a
-/// few rounds, else as `grid` on a mesh the resident threads cover in a few rounds, else as
-/// `graph`), `cluster` (one kernel per substep on one thread-block cluster of up to 16 blocks,
-/// synchronising with the cluster's barrier; where the device has no clusters, as `grid`), `grid`
-/// (one cooperative kernel per substep, the grid synchronising between the passes; where the
-/// device has no cooperative launch, as `graph`), `graph` (the substep's launches recorded once as
-/// a CUDA graph and replayed) or `plain` (every kernel launched on its own). All of them run the
-/// same operations in the same order: the same bits.
-enum class LaunchMode { persistent, cluster, grid, graph, plain };
+/// cooperative kernel runs the whole substep, the grid synchronising between the passes, on meshes
+/// small enough for a few elements per thread; larger ones as `graph`), `graph`
+/// (the substep's launches recorded once as a CUDA graph and replayed) or `plain` (every kernel
+/// launched on its own). All three run the same operations in the same order: the same bits.
+enum class LaunchMode { persistent, graph, plain };
 
 inline LaunchMode launch_mode() {
   const char* setting = std::getenv("TEAR_CUDA_LAUNCH");
   if (!setting || !*setting) return LaunchMode::persistent;
   const std::string mode = setting;
   if (mode == "persistent") return LaunchMode::persistent;
-  if (mode == "cluster") return LaunchMode::cluster;
-  if (mode == "grid") return LaunchMode::grid;
   if (mode == "graph") return LaunchMode::graph;
   if (mode == "plain") return LaunchMode::plain;
-  throw runtime_error("TEAR_CUDA_LAUNCH=" + mode + ": expected persistent, cluster, grid, graph or plain");
+  throw runtime_error("TEAR_CUDA_LAUNCH=" + mode + ": expected persistent, graph or plain");
 }
 
 /// The kernels of one substep with their arguments, built in one place for every way of launching
@@ -85,78 +79,27 @@ TEAR_HD inline void rotate_iterates(int& cur, int& prev, int& next) {
 }
 
 #if TEAR_CUDA_SYSTEM
-inline constexpr int persistent_block = 256;  ///< threads per block of the grid-wide kernel
-inline constexpr int max_cluster = 16;        ///< blocks of the largest cluster asked for (H100: 16)
+inline constexpr int persistent_block = 256;  ///< threads per block of the persistent kernel
 
-/// The whole substep run by the threads of `group` (a grid, a cluster, a block): each pass a
-/// strided loop over its elements calling the same functor as its own launch would, the group
-/// synchronised between passes. `s` stays in the kernel's parameters; each pass takes a copy of
-/// its functor with the iterates of the iteration, which live in registers.
-template <class Group>
-__device__ void run_substep_passes(const SubstepKernels& s, Group& group, index_t first, index_t stride) {
-  for (index_t n = first; n < s.node_count; n += stride) s.predict(n);
-  group.sync();
-  float* cur = s.iter[0];
-  float* prev = s.iter[1];
-  float* next = s.iter[2];
-  for (int k = 0; k < s.iterations; ++k) {
-    kernels::project_constraints project = s.project;
-    project.node_iter = cur;
-    for (index_t c = first; c < s.constraint_count; c += stride) project(c);
-    group.sync();
-    kernels::jacobi_chebyshev_update update = s.update;
-    update.node_iter = cur;
-    update.node_iter_prev = prev;
-    update.node_iter_next = next;
-    update.omega = s.omega[k];
-    for (index_t n = first; n < s.node_count; n += stride) update(n);
-    group.sync();
-    float* const old_prev = prev;  // as rotate_iterates
-    prev = cur;
-    cur = next;
-    next = old_prev;
-  }
-  kernels::finish_step finish = s.finish;
-  finish.node_iter = cur;
-  for (index_t n = first; n < s.node_count; n += stride) finish(n);
-}
-
-/// One substep on a cooperative grid: grid-wide synchronisation between the passes.
-__global__ void persistent_substep_kernel(const SubstepKernels s) {
+/// The whole substep in one cooperative kernel: each pass a grid-stride loop over its elements
+/// calling the same functor as its own launch would, the grid synchronised between passes.
+__global__ void persistent_substep_kernel(SubstepKernels s) {
   cooperative_groups::grid_group grid = cooperative_groups::this_grid();
-  run_substep_passes(s, grid, static_cast<index_t>(blockIdx.x * blockDim.x + threadIdx.x),
-                     static_cast<index_t>(gridDim.x * blockDim.x));
-}
-
-/// One substep on one block (`gridDim.x` 1: the block's barrier) or one thread-block cluster
-/// that is the whole grid (the cluster's barrier, which orders memory across its blocks). A
-/// barrier within a block or a cluster costs far less than one across the grid, which is what a
-/// small mesh's iterations wait on.
-template <int block_threads>
-__global__ void __launch_bounds__(block_threads) cluster_substep_kernel(const SubstepKernels s) {
   const index_t first = static_cast<index_t>(blockIdx.x * blockDim.x + threadIdx.x);
   const index_t stride = static_cast<index_t>(gridDim.x * blockDim.x);
-  if (gridDim.x == 1) {
-    cooperative_groups::thread_block block = cooperative_groups::this_thread_block();
-    run_substep_passes(s, block, first, stride);
-    return;
+  for (index_t n = first; n < s.node_count; n += stride) s.predict(n);
+  grid.sync();
+  int cur = 0, prev = 1, next = 2;
+  for (int k = 0; k < s.iterations; ++k) {
+    s.iteration(k, cur, prev, next);
+    for (index_t c = first; c < s.constraint_count; c += stride) s.project(c);
+    grid.sync();
+    for (index_t n = first; n < s.node_count; n += stride) s.update(n);
+    grid.sync();
+    rotate_iterates(cur, prev, next);
   }
-#if defined(__CUDA_ARCH__) && __CUDA_ARCH__ >= 900
-  cooperative_groups::cluster_group cluster = cooperative_groups::this_cluster();
-  run_substep_passes(s, cluster, first, stride);
-#else
-  __trap();  // never launched so: a cluster of several blocks is asked for only from sm_90 on
-#endif
-}
-
-inline int cluster_block() {
-  const char* setting = std::getenv("TEAR_CUDA_CLUSTER_BLOCK");
-  return setting && *setting ? std::atoi(setting) : 256;
-}
-inline const void* cluster_kernel(int block) {
-  if (block == 1024) return reinterpret_cast<const void*>(cluster_substep_kernel<1024>);
-  if (block == 512) return reinterpret_cast<const void*>(cluster_substep_kernel<512>);
-  return reinterpret_cast<const void*>(cluster_substep_kernel<256>);
+  s.finish_from(cur);
+  for (index_t n = first; n < s.node_count; n += stride) s.finish(n);
 }
 #endif
 
@@ -200,7 +143,7 @@ class PdSolverOn final : public PdSolver::Impl {
     state_pos_ = raw<float>(node_pos_);
     state_vel_ = raw<float>(node_vel_);
     step_graph_ = std::make_unique<ReplayGraph<System>>();
-    persistent_decided_ = false;  // the launch depends on the mesh's size
+    persistent_grid_ = -1;  // the grid depends on the mesh's size
     build_model(cloth.face_nodes, cloth.node_rest, cloth.topo);
   }
 
@@ -344,13 +287,9 @@ class PdSolverOn final : public PdSolver::Impl {
   SubstepKernels substep_kernels(const float* omega);
   template <class Policy>
   void enqueue_substep(const Policy& policy);
-  /// How a substep runs as one kernel on this mesh and device (`LaunchMode`).
-  struct PersistentLaunch {
-    enum class Kind { none, cluster, grid } kind = Kind::none;  // none: as a graph
-    int blocks = 0;
-  };
-  PersistentLaunch persistent_launch() const;
-  /// Runs `count` substeps as one kernel each; false where the mode or mesh does not.
+  /// Grid size of the persistent kernel for this mesh on this device, 0 where it is not used.
+  int persistent_grid();
+  /// Runs `count` substeps as persistent kernels; false where they are not used.
   bool step_persistent(int count);
   /// Runs `count` substeps the way `launch_mode_` says.
   void run_substeps(int count);
@@ -387,8 +326,7 @@ class PdSolverOn final : public PdSolver::Impl {
   float* state_vel_ = nullptr;
   std::unique_ptr<ReplayGraph<System>> step_graph_ = std::make_unique<ReplayGraph<System>>();  // one substep, recorded on the first step
   LaunchMode launch_mode_ = LaunchMode::persistent;
-  bool persistent_decided_ = false;  // persistent_ holds this mesh's launch
-  PersistentLaunch persistent_;
+  int persistent_grid_ = -1;        // not decided yet
   std::vector<float> omega_host_;   // ω of each iteration (Wang 2015, eq. 11)
   vec<float> omega_;                // the same on the backend, for the persistent kernel
 };
@@ -492,7 +430,7 @@ void PdSolverOn<System>::step_substep_in_place(float* node_pos, float* node_vel,
 
 template <class System>
 void PdSolverOn<System>::run_substeps(int count) {
-  if (launch_mode_ != LaunchMode::graph && launch_mode_ != LaunchMode::plain && step_persistent(count)) return;
+  if (launch_mode_ == LaunchMode::persistent && step_persistent(count)) return;
   const auto enqueue = [this](const auto& policy) { enqueue_substep(policy); };
   if (launch_mode_ == LaunchMode::plain) {
     for (int i = 0; i < count; ++i) enqueue(Traits<System>::policy());
@@ -554,112 +492,60 @@ void PdSolverOn<System>::enqueue_substep(const Policy& policy) {
 }
 
 template <class System>
-typename PdSolverOn<System>::PersistentLaunch PdSolverOn<System>::persistent_launch() const {
-  return {};
+int PdSolverOn<System>::persistent_grid() {
+  return 0;
 }
 
 #if TEAR_CUDA_SYSTEM
-namespace {
-/// What a device offers the one-kernel substeps, asked once per device (a solver is rebuilt after
-/// every tear).
-struct PersistentLimits {
-  long long grid_blocks = 0;  ///< blocks of the grid-wide kernel resident at once; 0: no cooperative launch
-  int cluster_blocks = 1;     ///< blocks of the largest cluster the cluster kernel runs on; 1 without clusters
-};
-
-PersistentLimits persistent_limits() {
+template <>
+int PdSolverOn<Cuda>::persistent_grid() {
+  // The blocks the device holds at once, asked once per device (a solver is rebuilt after every
+  // tear): 0 where cooperative launches are not available.
   static std::mutex mutex;
-  static std::map<int, PersistentLimits> known;
+  static std::map<int, long long> resident_blocks;
   int device = 0;
   if (cudaGetDevice(&device) != cudaSuccess) {
     cudaGetLastError();
-    return {};
+    return 0;
   }
-  const std::lock_guard<std::mutex> lock(mutex);
-  auto found = known.find(device);
-  if (found != known.end()) return found->second;
-  PersistentLimits limits;
-  int cooperative = 0, sms = 0, blocks_per_sm = 0, clusters = 0;
-  if (cudaDeviceGetAttribute(&cooperative, cudaDevAttrCooperativeLaunch, device) == cudaSuccess && cooperative &&
-      cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device) == cudaSuccess &&
-      cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks_per_sm, persistent_substep_kernel, persistent_block, 0) ==
-          cudaSuccess)
-    limits.grid_blocks = static_cast<long long>(sms) * blocks_per_sm;
-  cudaGetLastError();  // clear the error of a refused query
-  if (cudaDeviceGetAttribute(&clusters, cudaDevAttrClusterLaunch, device) == cudaSuccess && clusters) {
-    // Clusters of more than 8 blocks are the device's own ("non-portable"): allowed, then asked for.
-    cudaLaunchConfig_t config = {};
-    config.gridDim = dim3(max_cluster);
-    config.blockDim = dim3(cluster_block());
-    int largest = 0;
-    if (cudaFuncSetAttribute(cluster_kernel(cluster_block()), cudaFuncAttributeNonPortableClusterSizeAllowed, 1) ==
-            cudaSuccess &&
-        cudaOccupancyMaxPotentialClusterSize(&largest, cluster_kernel(cluster_block()), &config) == cudaSuccess &&
-        largest > 1)
-      limits.cluster_blocks = largest < max_cluster ? largest : max_cluster;
+  long long resident = 0;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    auto known = resident_blocks.find(device);
+    if (known == resident_blocks.end()) {
+      int cooperative = 0, sms = 0, blocks_per_sm = 0;
+      if (cudaDeviceGetAttribute(&cooperative, cudaDevAttrCooperativeLaunch, device) != cudaSuccess || !cooperative ||
+          cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device) != cudaSuccess ||
+          cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks_per_sm, persistent_substep_kernel, persistent_block,
+                                                        0) != cudaSuccess) {
+        cudaGetLastError();  // clear the error of a refused query
+        sms = blocks_per_sm = 0;
+      }
+      known = resident_blocks.emplace(device, static_cast<long long>(sms) * blocks_per_sm).first;
+    }
+    resident = known->second;
   }
-  cudaGetLastError();
-  known.emplace(device, limits);
-  return limits;
-}
-
-/// Rounds of elements per thread up to which a mesh runs on one cluster rather than the grid.
-int cluster_rounds() {
-  const char* setting = std::getenv("TEAR_CUDA_CLUSTER_ROUNDS");
-  return setting && *setting ? std::atoi(setting) : 2;
-}
-}  // namespace
-
-template <>
-typename PdSolverOn<Cuda>::PersistentLaunch PdSolverOn<Cuda>::persistent_launch() const {
-  using Kind = PersistentLaunch::Kind;
-  const PersistentLimits limits = persistent_limits();
-  const long long work = node_count_ > constraint_count_ ? node_count_ : constraint_count_;
-  const auto ceil_div = [](long long a, long long b) { return a > 0 ? (a + b - 1) / b : 1; };
-  // One cluster: as many blocks as give each thread at most `cluster_rounds` elements per pass.
-  const long long cluster = ceil_div(work, static_cast<long long>(cluster_rounds()) * cluster_block());
-  if (launch_mode_ == LaunchMode::cluster || (launch_mode_ == LaunchMode::persistent && cluster <= limits.cluster_blocks))
-    return {Kind::cluster, static_cast<int>(cluster < limits.cluster_blocks ? cluster : limits.cluster_blocks)};
-  if (limits.grid_blocks == 0) return {};
-  // The grid: only while each thread has at most a few elements per pass; on larger meshes
-  // separate launches, replayed as a graph, measured faster (H100: 4.2 against 3.7 ms per 100
-  // iterations at 131,797 nodes, 1.3 against 1.8 ms at 19,426).
-  const long long wanted = ceil_div(work, persistent_block);
-  if (launch_mode_ == LaunchMode::persistent && wanted > 4 * limits.grid_blocks) return {};
-  return {Kind::grid, static_cast<int>(wanted < limits.grid_blocks ? wanted : limits.grid_blocks)};
+  if (resident == 0) return 0;
+  // Only while each thread has at most a few elements per pass: on larger meshes separate launches,
+  // replayed as a graph, measured faster (H100: 4.2 against 3.7 ms per 100 iterations at 131,797
+  // nodes, 1.3 against 1.8 ms at 19,426).
+  const index_t work = node_count_ > constraint_count_ ? node_count_ : constraint_count_;
+  const long long wanted = (static_cast<long long>(work) + persistent_block - 1) / persistent_block;
+  if (wanted > 4 * resident) return 0;
+  return static_cast<int>(wanted < resident ? (wanted > 0 ? wanted : 1) : resident);
 }
 #endif
 
 template <class System>
 bool PdSolverOn<System>::step_persistent(int count) {
-  if (!persistent_decided_) {  // the device and mesh do not change until a rebuild
-    persistent_ = persistent_launch();
-    persistent_decided_ = true;
-  }
-  if (persistent_.kind == PersistentLaunch::Kind::none) return false;
+  if (persistent_grid_ < 0) persistent_grid_ = persistent_grid();  // the device and mesh do not change
+  if (persistent_grid_ == 0) return false;
 #if TEAR_CUDA_SYSTEM
   SubstepKernels s = substep_kernels(raw<float>(omega_));
+  void* args[] = {&s};
   for (int i = 0; i < count; ++i) {
-    cudaError_t status;
-    if (persistent_.kind == PersistentLaunch::Kind::grid) {
-      void* args[] = {&s};
-      status = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(persistent_substep_kernel),
-                                           dim3(persistent_.blocks), dim3(persistent_block), args, 0, 0);
-    } else {
-      // The grid is one cluster: its blocks run at once and share the cluster's barrier.
-      cudaLaunchConfig_t config = {};
-      config.gridDim = dim3(persistent_.blocks);
-      config.blockDim = dim3(cluster_block());
-      cudaLaunchAttribute attribute[1];
-      attribute[0].id = cudaLaunchAttributeClusterDimension;
-      attribute[0].val.clusterDim.x = static_cast<unsigned>(persistent_.blocks);
-      attribute[0].val.clusterDim.y = 1;
-      attribute[0].val.clusterDim.z = 1;
-      config.attrs = attribute;
-      config.numAttrs = persistent_.blocks > 1 ? 1 : 0;
-      void* args[] = {&s};
-      status = cudaLaunchKernelExC(&config, cluster_kernel(cluster_block()), args);
-    }
+    const cudaError_t status = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(persistent_substep_kernel),
+                                                           dim3(persistent_grid_), dim3(persistent_block), args, 0, 0);
     if (status != cudaSuccess)
       throw runtime_error(std::string("the solver's kernel could not be launched: ") + cudaGetErrorString(status));
   }
