@@ -17,4 +17,8 @@ MeshReport check_indices_on(const Mesh& mesh);
 template <class System>
 MeshReport validate_mesh_on(const Mesh& mesh, const Topology& topology);
 
+/// `validate_mesh_on` with the topology built on the backend: the mesh is uploaded once.
+template <class System>
+MeshReport validate_mesh_on(const Mesh& mesh);
+
 }  // namespace tear::backend

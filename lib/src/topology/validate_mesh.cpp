@@ -34,9 +34,7 @@ MeshReport validate_mesh(const Mesh& mesh, const Topology& topology, Device devi
 }
 
 MeshReport validate_mesh(const Mesh& mesh, Device device) {
-  MeshReport report = check_indices(mesh, device);
-  if (report.indices_out_of_range) return report;
-  return validate_mesh(mesh, build_topology(mesh, device), device);
+  return backend::dispatch(device, [&](auto system) { return backend::validate_mesh_on<decltype(system)>(mesh); });
 }
 
 }  // namespace tear
