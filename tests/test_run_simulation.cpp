@@ -293,4 +293,16 @@ TEST_CASE("run: --report writes the documented keys and one entry per frame", "[
   CHECK(totals["simulation_ms"].get<double>() == Approx(simulation_ms));
   CHECK(totals["remesh_ms"].get<double>() == Approx(frames[1]["remesh_ms"].get<double>()));
   CHECK(totals["wall_ms"].get<double>() >= simulation_ms);
+  // The parts of the run on its own thread: each measured, none longer than the whole run (which
+  // starts after the inputs are read).
+  for (const char* part : {"setup_ms", "download_ms", "write_wait_ms"}) {
+    INFO(part);
+    CHECK(totals[part].get<double>() >= 0);
+    CHECK(totals[part].get<double>() <= totals["wall_ms"].get<double>());
+  }
+  CHECK(totals["setup_ms"].get<double>() + totals["download_ms"].get<double>() + totals["write_wait_ms"].get<double>() +
+            simulation_ms + totals["remesh_ms"].get<double>() <=
+        totals["wall_ms"].get<double>());
+  CHECK(totals["input_ms"].get<double>() > 0);  // the mesh and script read
+  CHECK(totals["download_ms"].get<double>() > 0);
 }

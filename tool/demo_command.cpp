@@ -2,6 +2,7 @@
 // torn by pulling or punching (`--scene pull|punch`), with no input files, one OBJ per frame (or
 // any output `tear run` writes, a USD layer among them).
 #include <cctype>
+#include <chrono>
 #include <iomanip>
 #include <iostream>
 #include <memory>
@@ -51,10 +52,12 @@ void run_demo(const DemoCommandOptions& options) {
   FramePattern(pattern).check(1);
   const DemoResolution resolution = parse_demo_resolution(options.resolution);
   const DemoScene scene = parse_demo_scene(options.scene);
+  const auto start = std::chrono::steady_clock::now();
   const Mesh sheet = make_demo_mesh(scene, resolution);
   const CutScript script = demo_script(scene);
 
   RunOptions run;
+  run.input_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   run.output_pattern = pattern;
   run.frames = options.frames;
   run.start_frame = options.start_frame;

@@ -1,5 +1,6 @@
 // `tear run MESH SCRIPT -o PATTERN`: a script's cuts applied frame by frame, one mesh file per frame.
 #include <cerrno>
+#include <chrono>
 #include <climits>
 #include <cmath>
 #include <cstdlib>
@@ -74,6 +75,7 @@ void print_frame(const FrameResult& frame, int last_frame) {
 }
 
 void run_run(const RunCommandOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
   const Device device = select_device(options.device);
   // The pattern's syntax and the format of its extension are usage errors, found before any input is read.
   FramePattern(options.output_pattern).check(1);
@@ -97,11 +99,13 @@ void run_run(const RunCommandOptions& options) {
   if (frame_count > script.frames)
     throw Error(ErrorKind::usage, options.script_path + ": --frames " + std::to_string(frame_count) +
                                       " is more than the script's " + std::to_string(script.frames) + " frames");
-  // Every check of the inputs (run_to_files repeats them), then the outputs: none may be an input,
+  // Every check of the inputs (run_to_files is told not to repeat them), then the outputs: none may be an input,
   // and every folder must be writable, before anything is written.
   const FramePattern pattern(options.output_pattern);
   pattern.check(frame_count, options.start_frame);
   check_run_inputs(script, mesh, options.mesh_path, device);
+  run.inputs_checked = true;
+  run.input_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   check_output_files({{"mesh", options.mesh_path}, {"script", options.script_path}}, &pattern, frame_count,
                      {{"the report", options.report_path}, {"the checkpoint", options.farm.checkpoint_path}},
                      options.start_frame);

@@ -109,6 +109,12 @@ struct RunOptions {
   /// The options that change results besides the mesh, the script and the device, spelled out
   /// ("name=value;..."), so that a checkpoint made with others is refused.
   std::string result_options;
+  /// True when the caller has run `check_run_inputs` on this mesh and script with this device (as
+  /// `tear run` does, before it checks its outputs): `run_to_files` does not run it again.
+  bool inputs_checked = false;
+  /// Milliseconds the caller spent reading and checking the inputs, for the report's
+  /// `totals.input_ms` (0 when not measured).
+  double input_ms = 0;
   /// Checked after each frame is handed to the writer: once it is set (by a signal handler), the
   /// run waits until every frame handed over is on disk, writes its checkpoint and stops with an
   /// `Error` of kind `interrupted`.

@@ -213,10 +213,10 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     const std::to_chars_result end = std::to_chars(text, text + sizeof text, options.meters_per_unit);
     throw Error(ErrorKind::usage, "--meters-per-unit: expected a finite number > 0, got " + std::string(text, end.ptr));
   }
-  check_run_inputs(script, mesh, mesh_path, options.device);
+  if (!options.inputs_checked) check_run_inputs(script, mesh, mesh_path, options.device);
 
   nlohmann::json frames = nlohmann::json::array();
-  double remesh_ms = 0, simulation_ms = 0;
+  double remesh_ms = 0, simulation_ms = 0, download_ms = 0, write_wait_ms = 0;
   RunSummary summary;
   const std::unique_ptr<FrameSink> sink = make_sink(pattern, script, options);
   Cloth cloth(mesh, options.device);
@@ -236,6 +236,7 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     cloth.load_state(checkpoint.cloth_state, options.checkpoint_path);
     first_frame = checkpoint.frame + 1;
   }
+  const double setup_ms = ms_since(start);
   // Declared after the sink: it is gone (its threads ended, the temporary files of frames it did
   // not rename removed) before the sink goes.
   FrameWriter writer(*sink, FrameWriterOptions{options.writer_threads});
@@ -246,7 +247,9 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     written.path = sink->path_of(written.output_frame);
     // The download is all this thread does of the frame's output: normals, encoding and the file
     // are the writer's.
+    const Clock::time_point download_start = Clock::now();
     Mesh out = cut_cloth.mesh();
+    download_ms += ms_since(download_start);
     if (!options.report_path.empty()) {
       nlohmann::json entry = frame_report(written, cut_cloth);
       add_tearing(entry, written);
@@ -267,12 +270,14 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     // and every frame before it, is on disk: a resumed run never skips a frame.
     std::string state = checkpoint ? cut_cloth.save_state() : std::string();
     const bool normals = frame.simulated && out.has_normals();
+    const Clock::time_point hand_over_start = Clock::now();
     writer.write(written.output_frame, std::move(out), normals,
                  [&, written, checkpoint, state = std::move(state)]() mutable {
                    if (options.on_frame) options.on_frame(written);
                    if (checkpoint)
                      write_checkpoint(options.checkpoint_path, Checkpoint{written.frame, inputs, std::move(state)});
                  });
+    write_wait_ms += ms_since(hand_over_start);
     if (stopping) {
       writer.finish();
       throw Error(ErrorKind::interrupted,
@@ -282,7 +287,9 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
   };
   try {
     run_cuts(cloth, script, frame_count, hand_over, first_frame);
+    const Clock::time_point finish_start = Clock::now();
     writer.finish();
+    write_wait_ms += ms_since(finish_start);
   } catch (...) {
     // An error of the frame loop itself (a simulation that diverged) leaves the frames handed over
     // before it on disk, as writing them one after the other did. A failure of the writer (or of
@@ -293,7 +300,9 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     }
     throw;
   }
+  const Clock::time_point sink_start = Clock::now();
   sink->finish();
+  write_wait_ms += ms_since(sink_start);
   summary.wall_ms = ms_since(start);
 
   if (!options.report_path.empty()) {
@@ -304,8 +313,12 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
                                    {"frames", frames},
                                    {"totals",
                                     {{"frames", summary.frames},
+                                     {"input_ms", options.input_ms},
+                                     {"setup_ms", setup_ms},
                                      {"remesh_ms", remesh_ms},
                                      {"simulation_ms", simulation_ms},
+                                     {"download_ms", download_ms},
+                                     {"write_wait_ms", write_wait_ms},
                                      {"wall_ms", summary.wall_ms}}}};
     create_folder_of(options.report_path);
     write_file_atomically(options.report_path, report.dump(2) + "\n");
