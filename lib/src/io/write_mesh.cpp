@@ -449,7 +449,8 @@ void put_glb_bytes(const Mesh& mesh, std::string& out) {
 
 void write_mesh(const Mesh& mesh, const std::string& path) { write_mesh(mesh, path, format_from_path(path)); }
 
-void encode_mesh(const Mesh& mesh, const std::string& path, MeshFormat format, std::string& bytes) {
+void encode_mesh(const Mesh& mesh, const std::string& path, MeshFormat format, std::string& bytes,
+                 const EncodeOptions&) {
   check_mesh(mesh, path);
   switch (format) {
     case MeshFormat::obj:
