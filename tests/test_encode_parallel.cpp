@@ -61,7 +61,13 @@ Mesh random_frame(Random& random) {
     return random.chance(awkward_share) ? awkward[random.below(static_cast<index_t>(awkward.size()))]
                                         : static_cast<float>(random.uniform(-2.0, 2.0));
   };
-  for (index_t i = 0; i < 3 * node_count; ++i) mesh.node_pos.push_back(value(0.2));
+  // Sometimes positions of a few values only, so that POSITION's min and max meet -0 and +0 (the
+  // first in vertex order is written).
+  const bool few_positions = random.chance(0.2);
+  const float position_values[] = {0.0f, -0.0f, 1.0f, std::numeric_limits<float>::quiet_NaN()};
+  for (index_t i = 0; i < 3 * node_count; ++i) {
+    mesh.node_pos.push_back(few_positions ? position_values[random.below(4)] : value(0.2));
+  }
   // Faces use some of the nodes only, a few of them often (many corners, many splits).
   const index_t used = node_count == 0 ? 0 : 1 + random.below(node_count);
   for (index_t i = 0; i < 3 * face_count; ++i) {

@@ -5,8 +5,10 @@
 
 #include <omp.h>
 
+#include <algorithm>
 #include <cstddef>
 #include <exception>
+#include <utility>
 #include <vector>
 
 namespace tear {
@@ -34,6 +36,38 @@ void for_each_piece(std::size_t count, Body body, int threads = 0) {
   for (const std::exception_ptr& error : errors) {
     if (error) std::rethrow_exception(error);
   }
+}
+
+/// A team of threads and the pieces each loop it runs is cut into: one piece on one thread, else
+/// a few per thread, so that a slow piece does not hold the others up. (The mesh writers encode
+/// a frame with one.)
+struct PieceTeam {
+  int threads = 1;
+
+  std::size_t pieces(std::size_t count) const {
+    if (threads == 1) return 1;
+    return std::max<std::size_t>(1, std::min(count, 4 * static_cast<std::size_t>(threads)));
+  }
+
+  /// Runs `body(k, begin, end)` for the `piece_count` pieces of [0, count) (piece k is
+  /// [count * k / piece_count, count * (k + 1) / piece_count)); the same count and piece count
+  /// give the same ranges.
+  template <typename Body>
+  void for_each_range(std::size_t count, std::size_t piece_count, Body body) const {
+    for_each_piece(
+        piece_count, [&](std::size_t k) { body(k, count * k / piece_count, count * (k + 1) / piece_count); }, threads);
+  }
+  template <typename Body>
+  void for_each_range(std::size_t count, Body body) const {
+    for_each_range(count, pieces(count), body);
+  }
+};
+
+/// Replaces each count by the sum of the counts before it; returns the sum of all.
+inline std::size_t exclusive_sums(std::vector<std::size_t>& counts) {
+  std::size_t sum = 0;
+  for (std::size_t& count : counts) sum += std::exchange(count, sum);
+  return sum;
 }
 
 }  // namespace tear
