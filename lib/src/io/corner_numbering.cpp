@@ -179,8 +179,8 @@ ValueNumbers number_values(const std::vector<float>& corner_values, const PieceT
 /// corner is vertex `node`, every other class a vertex of its own, numbered by the class's first
 /// corner. Found in steps that each run in pieces: each node's first corner (the smallest that
 /// uses it); the corners that differ from it ("misfits", in corner order); each node's misfits,
-/// sorted, sorted into classes by comparing with the first of each class so far (a node has few);
-/// then the classes numbered in the order of their first corners.
+/// in corner order, put in classes by comparing each with the first of every class so far (a
+/// node has few); then the classes numbered in the order of their first corners.
 SplitNodes split_nodes(const Mesh& mesh, const PieceTeam& team) {
   const bool uv = mesh.has_uv(), normals = mesh.has_normals();
   auto same_attributes = [&](std::size_t a, std::size_t b) {
