@@ -1,5 +1,6 @@
 // The encoders tear had before a frame was encoded in parallel, kept verbatim as the reference
-// `encode_mesh` must match byte for byte at any thread count (test_encode_parallel.cpp).
+// `encode_mesh` must match byte for byte at any thread count (test_encode_parallel.cpp); base64 is
+// the tests' own (io_support.h), the same code.
 #include "write_mesh_reference.h"
 
 #include <algorithm>
@@ -15,6 +16,8 @@
 #include <unordered_map>
 #include <utility>
 #include <vector>
+
+#include "io_support.h"
 
 namespace tear {
 namespace {
@@ -231,22 +234,6 @@ void put_ply_bytes(const Mesh& mesh, std::string& out) {
   for (index_t node : mesh.torn_edge_nodes) append_u32(out, static_cast<std::uint32_t>(node));
 }
 
-std::string base64(const std::string& bytes) {
-  static const char alphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  for (std::size_t i = 0; i < bytes.size(); i += 3) {
-    std::uint32_t group = static_cast<std::uint8_t>(bytes[i]) << 16;
-    if (i + 1 < bytes.size()) group |= static_cast<std::uint8_t>(bytes[i + 1]) << 8;
-    if (i + 2 < bytes.size()) group |= static_cast<std::uint8_t>(bytes[i + 2]);
-    out += alphabet[(group >> 18) & 63];
-    out += alphabet[(group >> 12) & 63];
-    out += i + 1 < bytes.size() ? alphabet[(group >> 6) & 63] : '=';
-    out += i + 2 < bytes.size() ? alphabet[group & 63] : '=';
-  }
-  return out;
-}
-
 /// A float as the JSON number with the fewest digits that reads back to it.
 double json_number(float value) {
   char text[32];
@@ -385,7 +372,7 @@ std::pair<nlohmann::json, std::string> gltf_document(const Mesh& mesh) {
 void put_gltf_text(const Mesh& mesh, std::string& out) {
   auto [document, buffer] = gltf_document(mesh);
   if (!buffer.empty()) {
-    document["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(buffer);
+    document["buffers"][0]["uri"] = "data:application/octet-stream;base64," + test::base64(buffer);
   }
   out = document.dump(2);
   out += '\n';
