@@ -1,6 +1,8 @@
 // Frames written beside the run (tear/frame_writer.h): the bytes of frames written one after the
 // other, files renamed in frame order, bounded frames in flight, a failing frame's error with the
 // frames before it on disk and nothing after it, checkpoints and stops after the frame is on disk.
+#include <omp.h>
+
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -82,7 +84,50 @@ class SlowFrameFiles final : public tear::FrameSink {
   mutable std::atomic<int> staging_{0}, most_staging_{0};
 };
 
+/// Frame files whose stages note the OpenMP threads their thread's teams get.
+class TeamFrameFiles final : public tear::FrameSink {
+ public:
+  explicit TeamFrameFiles(const fs::path& pattern) : files_(tear::FramePattern(pattern.string())) {}
+  void write(int frame, const tear::Mesh& mesh) override { files_.write(frame, mesh); }
+  std::string path_of(int frame) const override { return files_.path_of(frame); }
+  bool stages_files() const override { return true; }
+  tear::TemporaryFile stage(int frame, const tear::Mesh& mesh, std::string& bytes) const override {
+    const int threads = omp_get_max_threads();
+    for (int most = most_threads_; threads > most && !most_threads_.compare_exchange_weak(most, threads);) {
+    }
+    for (int least = least_threads_; threads < least && !least_threads_.compare_exchange_weak(least, threads);) {
+    }
+    return files_.stage(frame, mesh, bytes);
+  }
+  int most_threads() const { return most_threads_; }
+  int least_threads() const { return least_threads_; }
+
+ private:
+  tear::FrameFiles files_;
+  mutable std::atomic<int> most_threads_{0}, least_threads_{1 << 30};
+};
+
 }  // namespace
+
+TEST_CASE("frame_writer: each writer thread encodes on its share of the OpenMP threads", "[writer]") {
+  TempDir dir;
+  const int available = omp_get_max_threads();
+  for (int threads : {1, 2, 3, 64}) {
+    INFO(threads << " writer threads, " << available << " OpenMP threads");
+    TeamFrameFiles sink(dir / std::to_string(threads) / "f.##.obj");
+    tear::FrameWriterOptions options;
+    options.threads = threads;
+    {
+      tear::FrameWriter writer(sink, options);
+      CHECK(writer.encode_threads() == std::max(1, available / threads));
+      for (int frame = 1; frame <= 6; ++frame) writer.write(frame, regular_sheet(), false, {});
+      writer.finish();
+    }
+    CHECK(sink.least_threads() == std::max(1, available / threads));
+    CHECK(sink.most_threads() == std::max(1, available / threads));
+    CHECK(omp_get_max_threads() == available);  // the caller's own count is left alone
+  }
+}
 
 TEST_CASE("frame_writer: frames written beside the run are the bytes of frames written one after the other",
           "[writer]") {

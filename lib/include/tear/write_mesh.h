@@ -47,11 +47,25 @@ MeshFormat format_from_path(const std::string& path);
 void write_mesh(const Mesh& mesh, const std::string& path);
 void write_mesh(const Mesh& mesh, const std::string& path, MeshFormat format);
 
+/// How `encode_mesh` spreads one frame over threads. The bytes do not depend on either field.
+struct EncodeOptions {
+  /// Threads of the OpenMP team that encodes the frame; 0: `omp_get_max_threads()` on the calling
+  /// thread (OMP_NUM_THREADS, else the hardware threads; a `FrameWriter` thread's own share,
+  /// tear/frame_writer.h).
+  int threads = 0;
+  /// A frame of fewer faces and fewer nodes than this is encoded on the calling thread alone:
+  /// starting a team for each of its loops would cost about what the threads save (a team of 2
+  /// gains from about 1,000 faces, and larger teams start slower). 0 runs every frame in pieces,
+  /// as tests do to reach the parallel path with small meshes.
+  index_t parallel_from = 4096;
+};
+
 /// The bytes `write_mesh` writes for `mesh` in `format`, in `bytes`: its contents are replaced and
 /// its memory kept, so a writer that encodes frame after frame into the same buffer allocates
 /// little. A mesh whose arrays do not match is a runtime `Error` "<path>: cannot write: <what>"
 /// (`path` only names it; nothing is written).
-void encode_mesh(const Mesh& mesh, const std::string& path, MeshFormat format, std::string& bytes);
+void encode_mesh(const Mesh& mesh, const std::string& path, MeshFormat format, std::string& bytes,
+                 const EncodeOptions& options = {});
 
 /// Writes `text` (any bytes) to `path` atomically: to `.<name>.tmp.<pid>` in the same directory,
 /// then `rename`d over `path`. On failure the temporary file is removed and a runtime `Error`

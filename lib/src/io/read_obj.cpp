@@ -15,13 +15,13 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <exception>
 #include <limits>
 #include <string>
 #include <system_error>
 #include <vector>
 
 #include "io/file_mesh.h"
+#include "io/parallel_pieces.h"
 #include "tear/error.h"
 #include "tear/triangulate_polygon.h"
 
@@ -334,24 +334,6 @@ void read_piece(const char* begin, const char* end, ObjPiece& piece) {
     }
     read_line(Line{line_begin, nul ? nul : p}, piece);
     if (p < end) p += (*p == '\r' && p + 1 < end && p[1] == '\n') ? 2 : 1;
-  }
-}
-
-/// Runs `body(k)` for k in [0, count) on the OpenMP threads; the first exception (by k) is
-/// rethrown here.
-template <typename Body>
-void for_each_piece(std::size_t count, Body body) {
-  std::vector<std::exception_ptr> errors(count);
-#pragma omp parallel for schedule(dynamic, 1)
-  for (std::size_t k = 0; k < count; ++k) {
-    try {
-      body(k);
-    } catch (...) {
-      errors[k] = std::current_exception();
-    }
-  }
-  for (const std::exception_ptr& error : errors) {
-    if (error) std::rethrow_exception(error);
   }
 }
 

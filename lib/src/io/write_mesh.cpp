@@ -1,19 +1,20 @@
 #include "tear/write_mesh.h"
 
+#include <omp.h>
+
 #include <algorithm>
-#include <array>
 #include <charconv>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <limits>
 #include <nlohmann/json.hpp>
-#include <numeric>
 #include <string>
-#include <unordered_map>
 #include <utility>
 #include <vector>
 
+#include "io/corner_numbering.h"
+#include "io/parallel_pieces.h"
 #include "tear/error.h"
 
 namespace tear {
@@ -49,14 +50,15 @@ void append_float(std::string& out, float value) {
   out.append(text, general.ptr);
 }
 
-/// Appends `value` in decimal, as `std::to_string` spells it.
-void append_int(std::string& out, long long value) {
-  char text[24];
-  out.append(text, std::to_chars(text, text + sizeof text, value).ptr);
+/// The digits of `value` in decimal.
+std::size_t decimal_digits(std::uint32_t value) {
+  std::size_t digits = 1;
+  for (; value >= 10; value /= 10) ++digits;
+  return digits;
 }
 
 /// Rejects meshes whose arrays do not match, so a writer never reads out of range.
-void check_mesh(const Mesh& mesh, const std::string& path) {
+void check_mesh(const Mesh& mesh, const std::string& path, const PieceTeam& team) {
   auto fail = [&](const std::string& what) { return runtime_error(path + ": cannot write: " + what); };
   const std::size_t corner_count = mesh.face_nodes.size();
   const std::size_t node_count = static_cast<std::size_t>(mesh.node_count());
@@ -72,12 +74,22 @@ void check_mesh(const Mesh& mesh, const std::string& path) {
   }
   if (mesh.node_origin_bary.size() != 2 * mesh.node_origin_face.size())
     throw fail("node_origin_bary has the wrong size");
-  for (std::size_t c = 0; c < corner_count; ++c) {
-    const index_t node = mesh.face_nodes[c];
-    if (node < 0 || node >= mesh.node_count()) {
-      throw fail("face " + std::to_string(c / 3) + " uses node " + std::to_string(node) + " of " +
-                 std::to_string(mesh.node_count()));
+  // The first corner (in order) that uses a node out of range: each piece finds its first.
+  const std::size_t piece_count = team.pieces(corner_count);
+  std::vector<std::size_t> bad_corner(piece_count, corner_count);
+  team.for_each_range(corner_count, piece_count, [&](std::size_t k, std::size_t begin, std::size_t end) {
+    for (std::size_t c = begin; c < end; ++c) {
+      const index_t node = mesh.face_nodes[c];
+      if (node < 0 || node >= mesh.node_count()) {
+        bad_corner[k] = c;
+        return;
+      }
     }
+  });
+  for (std::size_t c : bad_corner) {
+    if (c == corner_count) continue;
+    throw fail("face " + std::to_string(c / 3) + " uses node " + std::to_string(mesh.face_nodes[c]) + " of " +
+               std::to_string(mesh.node_count()));
   }
   if (mesh.torn_edge_nodes.size() % 2 != 0) throw fail("torn_edge_nodes does not hold pairs");
   for (index_t node : mesh.torn_edge_nodes) {
@@ -87,131 +99,117 @@ void check_mesh(const Mesh& mesh, const std::string& path) {
   }
 }
 
-/// Equal as numbers: -0 and +0 are one value (Blender writes both in normals), NaN is one value.
-bool same_value(float a, float b) { return a == b || (std::isnan(a) && std::isnan(b)); }
+/// Text written in pieces side by side, then joined in order. Pieces are added loop by loop; a
+/// loop of one piece appends to the last piece instead, so that on one thread all the text goes
+/// straight into the first piece, which is the output's own buffer.
+class TextPieces {
+ public:
+  TextPieces(const PieceTeam& team, std::string& out) : team_(team), out_(out) {
+    pieces_.emplace_back();
+    pieces_[0].swap(out);
+    pieces_[0].clear();
+  }
 
-/// Vertices for formats without per-corner indices (PLY, glTF). Vertex `i` is node `i` for every
-/// `i < node_count`, with the UV and normal of the node's first corner; a corner whose UV or
-/// normal differs (as numbers) from those of every vertex of its node so far gets a vertex of its
-/// own, numbered after all the nodes in the order of the corners. So a reader that keeps vertex
-/// order sees node `i` at vertex `i`, and identical attributes never split a node.
-struct SplitNodes {
-  std::vector<index_t> vertex_node;    ///< [vertex_count] node of each vertex
-  std::vector<index_t> vertex_corner;  ///< [vertex_count] first corner using it (its UV and normal), -1 if none
-  std::vector<index_t> corner_vertex;  ///< [face_count * 3] vertex of each corner
+  std::string& first() { return pieces_[0]; }
+
+  /// Runs `write(text, i)` for each i in [0, count), in pieces; `bytes_each` is a guess of the
+  /// bytes each writes, to reserve.
+  template <typename Write>
+  void add(std::size_t count, std::size_t bytes_each, Write write) {
+    const std::size_t piece_count = team_.pieces(count);
+    const std::size_t first = piece_count == 1 ? pieces_.size() - 1 : pieces_.size();
+    pieces_.resize(first + piece_count);
+    team_.for_each_range(count, piece_count, [&](std::size_t k, std::size_t begin, std::size_t end) {
+      std::string& text = pieces_[first + k];
+      const std::size_t wanted = text.size() + (end - begin) * bytes_each;
+      if (text.capacity() < wanted) text.reserve(wanted);
+      for (std::size_t i = begin; i < end; ++i) write(text, i);
+    });
+  }
+
+  /// Puts the text together in the output, followed by `more` bytes to be written; returns where
+  /// they go.
+  char* join(std::size_t more) {
+    std::vector<std::size_t> at(pieces_.size() + 1);
+    for (std::size_t k = 0; k < pieces_.size(); ++k) at[k + 1] = at[k] + pieces_[k].size();
+    out_.swap(pieces_[0]);
+    out_.resize(at.back() + more);
+    for_each_piece(
+        pieces_.size() - 1,
+        [&](std::size_t k) { std::memcpy(&out_[at[k + 1]], pieces_[k + 1].data(), pieces_[k + 1].size()); },
+        team_.threads);
+    return out_.data() + at.back();
+  }
+
+ private:
+  const PieceTeam& team_;
+  std::string& out_;
+  std::vector<std::string> pieces_;
 };
 
-SplitNodes split_nodes(const Mesh& mesh) {
-  auto same_attributes = [&](index_t a, std::size_t b) {
-    for (int k = 0; mesh.has_uv() && k < 2; ++k) {
-      if (!same_value(mesh.corner_uv[2 * a + k], mesh.corner_uv[2 * b + k])) return false;
-    }
-    for (int k = 0; mesh.has_normals() && k < 3; ++k) {
-      if (!same_value(mesh.corner_normal[3 * a + k], mesh.corner_normal[3 * b + k])) return false;
-    }
-    return true;
+/// Appends a line of `keyword` and `width` floats.
+void append_line(std::string& out, const char* keyword, const float* values, int width) {
+  out += keyword;
+  for (int k = 0; k < width; ++k) {
+    out += ' ';
+    append_float(out, values[k]);
+  }
+  out += '\n';
+}
+
+void put_obj_text(const Mesh& mesh, const PieceTeam& team, std::string& out) {
+  TextPieces text(team, out);
+  text.first() = "# tear\n";
+  text.add(static_cast<std::size_t>(mesh.node_count()), 32, [&](std::string& line, std::size_t node) {
+    append_line(line, "v", &mesh.node_pos[3 * node], 3);
+  });
+  ValueNumbers uv, normal;
+  if (mesh.has_uv()) {
+    uv = number_by_value(mesh.corner_uv, 2, team);
+    text.add(uv.first_corner.size(), 24, [&](std::string& line, std::size_t i) {
+      append_line(line, "vt", &mesh.corner_uv[2 * static_cast<std::size_t>(uv.first_corner[i])], 2);
+    });
+  }
+  if (mesh.has_normals()) {
+    normal = number_by_value(mesh.corner_normal, 3, team);
+    text.add(normal.first_corner.size(), 32, [&](std::string& line, std::size_t i) {
+      append_line(line, "vn", &mesh.corner_normal[3 * static_cast<std::size_t>(normal.first_corner[i])], 3);
+    });
+  }
+  // `f` lines: their lengths are cheap to count, so they are counted, then written in place.
+  const bool with_uv = mesh.has_uv(), with_normals = mesh.has_normals();
+  auto corner_bytes = [&](std::size_t c) {
+    return 1 + decimal_digits(mesh.face_nodes[c] + 1u) + (with_uv || with_normals) +
+           (with_uv ? decimal_digits(uv.corner_value[c] + 1u) : 0) +
+           (with_normals ? 1 + decimal_digits(normal.corner_value[c] + 1u) : 0);
   };
-  const index_t node_count = mesh.node_count();
-  SplitNodes split;
-  split.vertex_node.resize(node_count);
-  std::iota(split.vertex_node.begin(), split.vertex_node.end(), 0);
-  split.vertex_corner.assign(node_count, none);
-  split.corner_vertex.resize(mesh.face_nodes.size());
-  // The vertices split off each node; a node has few distinct corner attributes, so a linear
-  // search per corner is enough.
-  std::vector<std::vector<index_t>> node_extra(node_count);
-  for (std::size_t c = 0; c < mesh.face_nodes.size(); ++c) {
-    const index_t node = mesh.face_nodes[c];
-    index_t vertex = none;
-    if (split.vertex_corner[node] == none) {
-      split.vertex_corner[node] = static_cast<index_t>(c);
-      vertex = node;
-    } else if (same_attributes(split.vertex_corner[node], c)) {
-      vertex = node;
-    } else {
-      for (index_t candidate : node_extra[node]) {
-        if (same_attributes(split.vertex_corner[candidate], c)) {
-          vertex = candidate;
-          break;
-        }
+  const std::size_t face_count = static_cast<std::size_t>(mesh.face_count());
+  const std::size_t piece_count = team.pieces(face_count);
+  std::vector<std::size_t> face_start(piece_count);
+  team.for_each_range(face_count, piece_count, [&](std::size_t k, std::size_t begin, std::size_t end) {
+    std::size_t bytes = 0;
+    for (std::size_t c = 3 * begin; c < 3 * end; ++c) bytes += corner_bytes(c);
+    face_start[k] = bytes + 2 * (end - begin);
+  });
+  const std::size_t face_bytes = exclusive_sums(face_start);
+  char* const faces = text.join(face_bytes);
+  team.for_each_range(face_count, piece_count, [&](std::size_t k, std::size_t begin, std::size_t end) {
+    char* at = faces + face_start[k];
+    auto put = [&](std::uint32_t value) { at = std::to_chars(at, at + 10, value).ptr; };
+    for (std::size_t c = 3 * begin; c < 3 * end; ++c) {
+      if (c % 3 == 0) *at++ = 'f';
+      *at++ = ' ';
+      put(mesh.face_nodes[c] + 1u);
+      if (with_uv || with_normals) *at++ = '/';
+      if (with_uv) put(uv.corner_value[c] + 1u);
+      if (with_normals) {
+        *at++ = '/';
+        put(normal.corner_value[c] + 1u);
       }
+      if (c % 3 == 2) *at++ = '\n';
     }
-    if (vertex == none) {
-      vertex = static_cast<index_t>(split.vertex_node.size());
-      split.vertex_node.push_back(node);
-      split.vertex_corner.push_back(static_cast<index_t>(c));
-      node_extra[node].push_back(vertex);
-    }
-    split.corner_vertex[c] = vertex;
-  }
-  return split;
+  });
 }
-
-/// The bits of a `width`-float value, hashed for `number_by_value`.
-template <int width>
-struct ValueBits {
-  std::array<std::uint32_t, width> bits;
-  bool operator==(const ValueBits& other) const { return bits == other.bits; }
-  struct Hash {
-    std::size_t operator()(const ValueBits& value) const {
-      std::uint64_t hash = 1469598103934665603ull;  // FNV-1a over the words
-      for (std::uint32_t word : value.bits) hash = (hash ^ word) * 1099511628211ull;
-      return static_cast<std::size_t>(hash ^ (hash >> 32));
-    }
-  };
-};
-
-/// Numbers distinct values (compared bit for bit) in order of first use, as OBJ's `vt`/`vn` lists.
-/// The numbering depends on the order of use only, not on the table that finds the values.
-template <int width>
-std::vector<index_t> number_by_value(const std::vector<float>& corner_values, std::string& lines, const char* keyword) {
-  std::unordered_map<ValueBits<width>, index_t, typename ValueBits<width>::Hash> value_index;
-  std::vector<index_t> corner_index(corner_values.size() / width);
-  value_index.reserve(corner_index.size() / 4);
-  ValueBits<width> key;
-  for (std::size_t c = 0; c < corner_index.size(); ++c) {
-    for (int k = 0; k < width; ++k) key.bits[k] = float_bits(corner_values[width * c + k]);
-    auto inserted = value_index.try_emplace(key, static_cast<index_t>(value_index.size()));
-    if (inserted.second) {
-      lines += keyword;
-      for (int k = 0; k < width; ++k) {
-        lines += ' ';
-        append_float(lines, corner_values[width * c + k]);
-      }
-      lines += '\n';
-    }
-    corner_index[c] = inserted.first->second;
-  }
-  return corner_index;
-}
-
-void put_obj_text(const Mesh& mesh, std::string& text) {
-  text = "# tear\n";
-  for (index_t node = 0; node < mesh.node_count(); ++node) {
-    text += 'v';
-    for (int k = 0; k < 3; ++k) {
-      text += ' ';
-      append_float(text, mesh.node_pos[3 * node + k]);
-    }
-    text += '\n';
-  }
-  std::vector<index_t> corner_uv_index, corner_normal_index;
-  if (mesh.has_uv()) corner_uv_index = number_by_value<2>(mesh.corner_uv, text, "vt");
-  if (mesh.has_normals()) corner_normal_index = number_by_value<3>(mesh.corner_normal, text, "vn");
-  for (std::size_t c = 0; c < mesh.face_nodes.size(); ++c) {
-    text += c % 3 == 0 ? "f " : " ";
-    append_int(text, mesh.face_nodes[c] + 1LL);
-    if (mesh.has_uv() || mesh.has_normals()) text += '/';
-    if (mesh.has_uv()) append_int(text, corner_uv_index[c] + 1LL);
-    if (mesh.has_normals()) {
-      text += '/';
-      append_int(text, corner_normal_index[c] + 1LL);
-    }
-    if (c % 3 == 2) text += '\n';
-  }
-}
-
-void append_u8(std::string& out, std::uint8_t value) { out += static_cast<char>(value); }
 
 void append_u32(std::string& out, std::uint32_t value) {
   const char bytes[4] = {static_cast<char>(value & 0xFFu), static_cast<char>((value >> 8) & 0xFFu),
@@ -219,15 +217,24 @@ void append_u32(std::string& out, std::uint32_t value) {
   out.append(bytes, 4);
 }
 
-void append_f32(std::string& out, float value) { append_u32(out, float_bits(value)); }
+/// Little endian at `at`, which moves on: binary arrays are written in place, in pieces.
+void put_u32(char*& at, std::uint32_t value) {
+  at[0] = static_cast<char>(value & 0xFFu);
+  at[1] = static_cast<char>((value >> 8) & 0xFFu);
+  at[2] = static_cast<char>((value >> 16) & 0xFFu);
+  at[3] = static_cast<char>((value >> 24) & 0xFFu);
+  at += 4;
+}
+
+void put_f32(char*& at, float value) { put_u32(at, float_bits(value)); }
 
 /// A vertex's UV and normal: its first corner's, or zeros for a node no face uses.
 float corner_value(const std::vector<float>& corner_values, int width, index_t corner, int k) {
   return corner == none ? 0.0f : corner_values[static_cast<std::size_t>(width) * corner + k];
 }
 
-void put_ply_bytes(const Mesh& mesh, std::string& out) {
-  const SplitNodes split = split_nodes(mesh);
+void put_ply_bytes(const Mesh& mesh, const PieceTeam& team, std::string& out) {
+  const SplitNodes split = split_nodes(mesh, team);
   out = "ply\nformat binary_little_endian 1.0\ncomment tear\n";
   out += "element vertex " + std::to_string(split.vertex_node.size()) + "\n";
   out += "property float x\nproperty float y\nproperty float z\n";
@@ -243,39 +250,63 @@ void put_ply_bytes(const Mesh& mesh, std::string& out) {
     out += "element edge " + std::to_string(torn_edge_count) + "\nproperty int vertex1\nproperty int vertex2\n";
   }
   out += "end_header\n";
-  for (std::size_t v = 0; v < split.vertex_node.size(); ++v) {
-    const index_t node = split.vertex_node[v];
-    const index_t corner = split.vertex_corner[v];
-    for (int k = 0; k < 3; ++k) append_f32(out, mesh.node_pos[3 * node + k]);
-    for (int k = 0; mesh.has_normals() && k < 3; ++k) append_f32(out, corner_value(mesh.corner_normal, 3, corner, k));
-    for (int k = 0; mesh.has_uv() && k < 2; ++k) append_f32(out, corner_value(mesh.corner_uv, 2, corner, k));
-    append_u32(out, static_cast<std::uint32_t>(node));
-    for (int k = 0; k < 3; ++k) append_f32(out, mesh.has_velocities() ? mesh.node_vel[3 * node + k] : 0.0f);
-    append_u32(out, static_cast<std::uint32_t>(mesh.has_origins() ? mesh.node_origin_face[node] : none));
-    for (int k = 0; k < 2; ++k) append_f32(out, mesh.has_origins() ? mesh.node_origin_bary[2 * node + k] : 0.0f);
-  }
-  for (index_t face = 0; face < mesh.face_count(); ++face) {
-    append_u8(out, 3);
-    for (int k = 0; k < 3; ++k) append_u32(out, static_cast<std::uint32_t>(split.corner_vertex[3 * face + k]));
-  }
+  // Fixed-size records: each piece writes its vertices and faces at their offsets.
+  const std::size_t vertex_size = 4 * (3 + (mesh.has_normals() ? 3 : 0) + (mesh.has_uv() ? 2 : 0) + 7);
+  const std::size_t face_size = 1 + 3 * 4;
+  const std::size_t vertex_count = split.vertex_node.size(), face_count = static_cast<std::size_t>(mesh.face_count());
+  const std::size_t header_size = out.size();
+  out.resize(header_size + vertex_count * vertex_size + face_count * face_size + 4 * mesh.torn_edge_nodes.size());
+  char* const vertices = out.data() + header_size;
+  char* const faces = vertices + vertex_count * vertex_size;
+  team.for_each_range(vertex_count, [&](std::size_t, std::size_t begin, std::size_t end) {
+    char* at = vertices + begin * vertex_size;
+    for (std::size_t v = begin; v < end; ++v) {
+      const index_t node = split.vertex_node[v];
+      const index_t corner = split.vertex_corner[v];
+      for (int k = 0; k < 3; ++k) put_f32(at, mesh.node_pos[3 * node + k]);
+      for (int k = 0; mesh.has_normals() && k < 3; ++k) put_f32(at, corner_value(mesh.corner_normal, 3, corner, k));
+      for (int k = 0; mesh.has_uv() && k < 2; ++k) put_f32(at, corner_value(mesh.corner_uv, 2, corner, k));
+      put_u32(at, static_cast<std::uint32_t>(node));
+      for (int k = 0; k < 3; ++k) put_f32(at, mesh.has_velocities() ? mesh.node_vel[3 * node + k] : 0.0f);
+      put_u32(at, static_cast<std::uint32_t>(mesh.has_origins() ? mesh.node_origin_face[node] : none));
+      for (int k = 0; k < 2; ++k) put_f32(at, mesh.has_origins() ? mesh.node_origin_bary[2 * node + k] : 0.0f);
+    }
+  });
+  team.for_each_range(face_count, [&](std::size_t, std::size_t begin, std::size_t end) {
+    char* at = faces + begin * face_size;
+    for (std::size_t face = begin; face < end; ++face) {
+      *at++ = 3;
+      for (std::size_t c = 3 * face; c < 3 * face + 3; ++c) put_u32(at, static_cast<std::uint32_t>(split.corner_vertex[c]));
+    }
+  });
   // Vertex i is node i, so the torn edges' node pairs are vertex pairs.
-  for (index_t node : mesh.torn_edge_nodes) append_u32(out, static_cast<std::uint32_t>(node));
+  char* at = faces + face_count * face_size;
+  for (index_t node : mesh.torn_edge_nodes) put_u32(at, static_cast<std::uint32_t>(node));
 }
 
-std::string base64(const std::string& bytes) {
+/// Appends the base64 of `bytes`, in pieces of whole 3-byte groups; the last group, when it is
+/// not whole, is padded with '='.
+void append_base64(const std::string& bytes, const PieceTeam& team, std::string& out) {
   static const char alphabet[] = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  for (std::size_t i = 0; i < bytes.size(); i += 3) {
-    std::uint32_t group = static_cast<std::uint8_t>(bytes[i]) << 16;
-    if (i + 1 < bytes.size()) group |= static_cast<std::uint8_t>(bytes[i + 1]) << 8;
-    if (i + 2 < bytes.size()) group |= static_cast<std::uint8_t>(bytes[i + 2]);
-    out += alphabet[(group >> 18) & 63];
-    out += alphabet[(group >> 12) & 63];
-    out += i + 1 < bytes.size() ? alphabet[(group >> 6) & 63] : '=';
-    out += i + 2 < bytes.size() ? alphabet[group & 63] : '=';
-  }
-  return out;
+  const std::size_t whole = bytes.size() / 3, rest = bytes.size() % 3;
+  const std::size_t begin = out.size();
+  out.resize(begin + 4 * (whole + (rest > 0)));
+  char* const text = out.data() + begin;
+  auto group_at = [&](std::size_t i) { return static_cast<std::uint32_t>(static_cast<std::uint8_t>(bytes[i])); };
+  team.for_each_range(whole, [&](std::size_t, std::size_t first, std::size_t last) {
+    for (std::size_t g = first; g < last; ++g) {
+      const std::uint32_t group = group_at(3 * g) << 16 | group_at(3 * g + 1) << 8 | group_at(3 * g + 2);
+      for (int k = 0; k < 4; ++k) text[4 * g + k] = alphabet[(group >> (18 - 6 * k)) & 63];
+    }
+  });
+  if (rest == 0) return;
+  std::uint32_t group = group_at(3 * whole) << 16;
+  if (rest == 2) group |= group_at(3 * whole + 1) << 8;
+  char* const last = text + 4 * whole;
+  last[0] = alphabet[(group >> 18) & 63];
+  last[1] = alphabet[(group >> 12) & 63];
+  last[2] = rest == 2 ? alphabet[(group >> 6) & 63] : '=';
+  last[3] = '=';
 }
 
 /// A float as the JSON number with the fewest digits that reads back to it.
@@ -287,54 +318,98 @@ double json_number(float value) {
   return wide;
 }
 
-/// The glTF document and its binary buffer (positions, normals, UVs, then indices).
-std::pair<nlohmann::json, std::string> gltf_document(const Mesh& mesh) {
+/// Where each array lies in the glTF buffer: positions, normals, UVs, ids, velocities, indices.
+struct GltfLayout {
+  std::size_t vertex_count = 0, corner_count = 0;
+  bool normals = false, uv = false, ids = false;
+  std::size_t positions = 0, normals_at = 0, uv_at = 0, ids_at = 0, velocities = 0, indices = 0, size = 0;
+
+  GltfLayout() = default;
+  GltfLayout(const Mesh& mesh, const SplitNodes& split)
+      : vertex_count(split.vertex_node.size()), corner_count(split.corner_vertex.size()), normals(mesh.has_normals()),
+        uv(mesh.has_uv()), ids(mesh.node_count() <= max_float_id) {
+    normals_at = positions + 12 * vertex_count;
+    uv_at = normals_at + (normals ? 12 * vertex_count : 0);
+    ids_at = uv_at + (uv ? 8 * vertex_count : 0);
+    velocities = ids_at + (ids ? 4 * vertex_count : 0);
+    indices = velocities + 12 * vertex_count;
+    size = indices + 4 * corner_count;
+  }
+};
+
+/// The glTF document of a frame and what its buffer is made of. A frame without faces is a scene
+/// without nodes and has no buffer (glTF forbids empty accessors and buffers).
+struct GltfFrame {
+  nlohmann::json document;
+  SplitNodes split;
+  GltfLayout layout;  ///< empty without faces
+};
+
+/// POSITION's min and max per coordinate: non-finite coordinates stay out of them (JSON has no
+/// NaN). Each piece keeps the first of equal values (-0 and +0), and pieces are met in order, as
+/// one pass in order would. Vertices past the nodes are copies of nodes and change nothing.
+struct Bounds {
+  float low[3], high[3];
+  bool seen[3] = {false, false, false};
+
+  void add(int k, float x) {
+    if (!std::isfinite(x)) return;
+    low[k] = seen[k] ? std::min(low[k], x) : x;
+    high[k] = seen[k] ? std::max(high[k], x) : x;
+    seen[k] = true;
+  }
+  void add(const Bounds& later) {
+    for (int k = 0; k < 3; ++k) {
+      if (!later.seen[k]) continue;
+      low[k] = seen[k] && !(later.low[k] < low[k]) ? low[k] : later.low[k];
+      high[k] = seen[k] && !(later.high[k] > high[k]) ? high[k] : later.high[k];
+      seen[k] = true;
+    }
+  }
+};
+
+GltfFrame gltf_frame(const Mesh& mesh, const PieceTeam& team) {
   using nlohmann::json;
-  json document;
+  GltfFrame frame;
+  json& document = frame.document;
   document["asset"] = {{"generator", "tear"}, {"version", "2.0"}};
   document["scene"] = 0;
   if (mesh.face_count() == 0) {
-    // glTF forbids empty accessors and buffers: an empty mesh is a scene without nodes.
     document["scenes"] = json::array({json::object()});
-    return {document, std::string()};
+    return frame;
   }
   document["scenes"] = json::array({{{"nodes", {0}}}});
   document["nodes"] = json::array({{{"mesh", 0}, {"name", "cloth"}}});
 
-  const SplitNodes split = split_nodes(mesh);
-  const std::size_t vertex_count = split.vertex_node.size();
-  std::string buffer;
+  frame.split = split_nodes(mesh, team);
+  frame.layout = GltfLayout(mesh, frame.split);
+  const GltfLayout& layout = frame.layout;
+  const std::size_t vertex_count = layout.vertex_count;
   json buffer_views = json::array();
   json accessors = json::array();
   json attributes = json::object();
   constexpr int array_buffer = 34962, element_array_buffer = 34963;
   constexpr int float_type = 5126, unsigned_int_type = 5125;
-
-  auto add_view = [&](std::size_t begin, int target) {
-    buffer_views.push_back(
-        {{"buffer", 0}, {"byteOffset", begin}, {"byteLength", buffer.size() - begin}, {"target", target}});
+  auto add_view = [&](std::size_t begin, std::size_t end, int target) {
+    buffer_views.push_back({{"buffer", 0}, {"byteOffset", begin}, {"byteLength", end - begin}, {"target", target}});
   };
 
-  // POSITION needs min and max; non-finite coordinates stay out of them (JSON has no NaN).
-  std::size_t begin = buffer.size();
-  float low[3], high[3];
-  bool seen[3] = {false, false, false};
-  for (index_t node : split.vertex_node) {
-    for (int k = 0; k < 3; ++k) {
-      const float x = mesh.node_pos[3 * node + k];
-      append_f32(buffer, x);
-      if (!std::isfinite(x)) continue;
-      low[k] = seen[k] ? std::min(low[k], x) : x;
-      high[k] = seen[k] ? std::max(high[k], x) : x;
-      seen[k] = true;
+  const std::size_t node_count = static_cast<std::size_t>(mesh.node_count());
+  const std::size_t piece_count = team.pieces(node_count);
+  std::vector<Bounds> piece_bounds(piece_count);
+  team.for_each_range(node_count, piece_count, [&](std::size_t k, std::size_t begin, std::size_t end) {
+    for (std::size_t node = begin; node < end; ++node) {
+      for (int j = 0; j < 3; ++j) piece_bounds[k].add(j, mesh.node_pos[3 * node + j]);
     }
-  }
+  });
+  Bounds bounds;
+  for (const Bounds& piece : piece_bounds) bounds.add(piece);
   json min = json::array(), max = json::array();
   for (int k = 0; k < 3; ++k) {
-    min.push_back(seen[k] ? json_number(low[k]) : 0.0);
-    max.push_back(seen[k] ? json_number(high[k]) : 0.0);
+    min.push_back(bounds.seen[k] ? json_number(bounds.low[k]) : 0.0);
+    max.push_back(bounds.seen[k] ? json_number(bounds.high[k]) : 0.0);
   }
-  add_view(begin, array_buffer);
+  add_view(layout.positions, layout.normals_at, array_buffer);
   accessors.push_back({{"bufferView", buffer_views.size() - 1},
                        {"componentType", float_type},
                        {"count", vertex_count},
@@ -342,64 +417,44 @@ std::pair<nlohmann::json, std::string> gltf_document(const Mesh& mesh) {
                        {"min", min},
                        {"max", max}});
   attributes["POSITION"] = accessors.size() - 1;
-
-  if (mesh.has_normals()) {
-    begin = buffer.size();
-    for (index_t corner : split.vertex_corner) {
-      for (int k = 0; k < 3; ++k) append_f32(buffer, corner_value(mesh.corner_normal, 3, corner, k));
-    }
-    add_view(begin, array_buffer);
+  if (layout.normals) {
+    add_view(layout.normals_at, layout.uv_at, array_buffer);
     accessors.push_back({{"bufferView", buffer_views.size() - 1},
                          {"componentType", float_type},
                          {"count", vertex_count},
                          {"type", "VEC3"}});
     attributes["NORMAL"] = accessors.size() - 1;
   }
-  if (mesh.has_uv()) {
-    begin = buffer.size();
-    for (index_t corner : split.vertex_corner) {
-      append_f32(buffer, corner_value(mesh.corner_uv, 2, corner, 0));
-      append_f32(buffer, 1.0f - corner_value(mesh.corner_uv, 2, corner, 1));
-    }
-    add_view(begin, array_buffer);
+  if (layout.uv) {
+    add_view(layout.uv_at, layout.ids_at, array_buffer);
     accessors.push_back({{"bufferView", buffer_views.size() - 1},
                          {"componentType", float_type},
                          {"count", vertex_count},
                          {"type", "VEC2"}});
     attributes["TEXCOORD_0"] = accessors.size() - 1;
   }
-
   // Identity (docs/io.md), as application-specific attributes: `_ID`, the node each vertex is,
   // and `_VELOCITY` (m/s). glTF allows no UNSIGNED_INT outside indices, and Blender imports a
   // SCALAR FLOAT (not a SHORT) as a point attribute, so ids are floats: exact up to 2^24 nodes,
   // and left out above that rather than rounded.
-  if (mesh.node_count() <= max_float_id) {
-    begin = buffer.size();
-    for (index_t node : split.vertex_node) append_f32(buffer, static_cast<float>(node));
-    add_view(begin, array_buffer);
+  if (layout.ids) {
+    add_view(layout.ids_at, layout.velocities, array_buffer);
     accessors.push_back({{"bufferView", buffer_views.size() - 1},
                          {"componentType", float_type},
                          {"count", vertex_count},
                          {"type", "SCALAR"}});
     attributes["_ID"] = accessors.size() - 1;
   }
-  begin = buffer.size();
-  for (index_t node : split.vertex_node) {
-    for (int k = 0; k < 3; ++k) append_f32(buffer, mesh.has_velocities() ? mesh.node_vel[3 * node + k] : 0.0f);
-  }
-  add_view(begin, array_buffer);
+  add_view(layout.velocities, layout.indices, array_buffer);
   accessors.push_back({{"bufferView", buffer_views.size() - 1},
                        {"componentType", float_type},
                        {"count", vertex_count},
                        {"type", "VEC3"}});
   attributes["_VELOCITY"] = accessors.size() - 1;
-
-  begin = buffer.size();
-  for (index_t vertex : split.corner_vertex) append_u32(buffer, static_cast<std::uint32_t>(vertex));
-  add_view(begin, element_array_buffer);
+  add_view(layout.indices, layout.size, element_array_buffer);
   accessors.push_back({{"bufferView", buffer_views.size() - 1},
                        {"componentType", unsigned_int_type},
-                       {"count", split.corner_vertex.size()},
+                       {"count", layout.corner_count},
                        {"type", "SCALAR"}});
 
   constexpr int triangles = 4;
@@ -409,25 +464,66 @@ std::pair<nlohmann::json, std::string> gltf_document(const Mesh& mesh) {
          json::array({{{"attributes", attributes}, {"indices", accessors.size() - 1}, {"mode", triangles}}})}}});
   document["accessors"] = accessors;
   document["bufferViews"] = buffer_views;
-  document["buffers"] = json::array({{{"byteLength", buffer.size()}}});
-  return {document, buffer};
+  document["buffers"] = json::array({{{"byteLength", layout.size}}});
+  return frame;
 }
 
-void put_gltf_text(const Mesh& mesh, std::string& out) {
-  auto [document, buffer] = gltf_document(mesh);
-  if (!buffer.empty()) {
-    document["buffers"][0]["uri"] = "data:application/octet-stream;base64," + base64(buffer);
+/// Writes the glTF buffer of `frame` at `buffer` (`frame.layout.size` bytes), vertices and
+/// corners in pieces, each array at its place.
+void put_gltf_buffer(const Mesh& mesh, const GltfFrame& frame, const PieceTeam& team, char* buffer) {
+  const SplitNodes& split = frame.split;
+  const GltfLayout& layout = frame.layout;
+  team.for_each_range(layout.vertex_count, [&](std::size_t, std::size_t begin, std::size_t end) {
+    char* positions = buffer + layout.positions + 12 * begin;
+    char* normals = buffer + layout.normals_at + 12 * begin;
+    char* uv = buffer + layout.uv_at + 8 * begin;
+    char* ids = buffer + layout.ids_at + 4 * begin;
+    char* velocities = buffer + layout.velocities + 12 * begin;
+    for (std::size_t v = begin; v < end; ++v) {
+      const index_t node = split.vertex_node[v], corner = split.vertex_corner[v];
+      for (int k = 0; k < 3; ++k) put_f32(positions, mesh.node_pos[3 * node + k]);
+      for (int k = 0; layout.normals && k < 3; ++k) put_f32(normals, corner_value(mesh.corner_normal, 3, corner, k));
+      if (layout.uv) {
+        put_f32(uv, corner_value(mesh.corner_uv, 2, corner, 0));
+        put_f32(uv, 1.0f - corner_value(mesh.corner_uv, 2, corner, 1));
+      }
+      if (layout.ids) put_f32(ids, static_cast<float>(node));
+      for (int k = 0; k < 3; ++k) put_f32(velocities, mesh.has_velocities() ? mesh.node_vel[3 * node + k] : 0.0f);
+    }
+  });
+  team.for_each_range(layout.corner_count, [&](std::size_t, std::size_t begin, std::size_t end) {
+    char* indices = buffer + layout.indices + 4 * begin;
+    for (std::size_t c = begin; c < end; ++c) put_u32(indices, static_cast<std::uint32_t>(split.corner_vertex[c]));
+  });
+}
+
+void put_gltf_text(const Mesh& mesh, const PieceTeam& team, std::string& out) {
+  GltfFrame frame = gltf_frame(mesh, team);
+  if (frame.layout.size == 0) {
+    out = frame.document.dump(2);
+    out += '\n';
+    return;
   }
-  out = document.dump(2);
+  std::string buffer(frame.layout.size, '\0');
+  put_gltf_buffer(mesh, frame, team, buffer.data());
+  // The document is printed with the data URI's prefix only, and the base64 goes in after it:
+  // its characters need no escaping in JSON, so the text is what printing the whole URI gives.
+  const std::string prefix = "data:application/octet-stream;base64,";
+  frame.document["buffers"][0]["uri"] = prefix;
+  const std::string document = frame.document.dump(2);
+  const std::size_t split_at = document.find('"' + prefix + '"') + 1 + prefix.size();
+  out.assign(document, 0, split_at);
+  append_base64(buffer, team, out);
+  out.append(document, split_at, std::string::npos);
   out += '\n';
 }
 
-void put_glb_bytes(const Mesh& mesh, std::string& out) {
-  const auto [document, buffer] = gltf_document(mesh);
+void put_glb_bytes(const Mesh& mesh, const PieceTeam& team, std::string& out) {
+  const GltfFrame frame = gltf_frame(mesh, team);
   // Chunks are 4-byte aligned: JSON padded with spaces, the binary chunk with zeros.
-  std::string json_chunk = document.dump();
+  std::string json_chunk = frame.document.dump();
   json_chunk.resize((json_chunk.size() + 3) / 4 * 4, ' ');
-  const std::size_t bin_size = (buffer.size() + 3) / 4 * 4;
+  const std::size_t bin_size = (frame.layout.size + 3) / 4 * 4;
   const std::size_t total = 12 + 8 + json_chunk.size() + (bin_size == 0 ? 0 : 8 + bin_size);
   out.clear();
   out.reserve(total);
@@ -440,8 +536,9 @@ void put_glb_bytes(const Mesh& mesh, std::string& out) {
   if (bin_size > 0) {
     append_u32(out, static_cast<std::uint32_t>(bin_size));
     append_u32(out, 0x004E4942u);  // "BIN\0"
-    out += buffer;
+    const std::size_t buffer_at = out.size();
     out.resize(total, '\0');
+    put_gltf_buffer(mesh, frame, team, out.data() + buffer_at);
   }
 }
 
@@ -449,17 +546,21 @@ void put_glb_bytes(const Mesh& mesh, std::string& out) {
 
 void write_mesh(const Mesh& mesh, const std::string& path) { write_mesh(mesh, path, format_from_path(path)); }
 
-void encode_mesh(const Mesh& mesh, const std::string& path, MeshFormat format, std::string& bytes) {
-  check_mesh(mesh, path);
+void encode_mesh(const Mesh& mesh, const std::string& path, MeshFormat format, std::string& bytes,
+                 const EncodeOptions& options) {
+  PieceTeam team;
+  team.threads = options.threads > 0 ? options.threads : omp_get_max_threads();
+  if (mesh.face_count() < options.parallel_from && mesh.node_count() < options.parallel_from) team.threads = 1;
+  check_mesh(mesh, path, team);
   switch (format) {
     case MeshFormat::obj:
-      return put_obj_text(mesh, bytes);
+      return put_obj_text(mesh, team, bytes);
     case MeshFormat::ply:
-      return put_ply_bytes(mesh, bytes);
+      return put_ply_bytes(mesh, team, bytes);
     case MeshFormat::gltf:
-      return put_gltf_text(mesh, bytes);
+      return put_gltf_text(mesh, team, bytes);
     case MeshFormat::glb:
-      return put_glb_bytes(mesh, bytes);
+      return put_glb_bytes(mesh, team, bytes);
   }
   throw Error(ErrorKind::usage, path + ": unknown mesh format");
 }

@@ -1,5 +1,7 @@
 #include "tear/frame_writer.h"
 
+#include <omp.h>
+
 #include <algorithm>
 #include <climits>
 #include <condition_variable>
@@ -31,6 +33,7 @@ struct FrameWriter::Pool {
   FrameSink& sink;
   const bool stages_files;
   std::size_t max_in_flight = 0;
+  int encode_threads = 1;
   std::vector<std::thread> threads;
 
   std::mutex mutex;
@@ -49,6 +52,7 @@ struct FrameWriter::Pool {
     const int count = options.threads > 0 ? options.threads : std::max(1, std::min(4, hardware));
     max_in_flight = options.max_in_flight > 0 ? static_cast<std::size_t>(options.max_in_flight)
                                               : 2 * static_cast<std::size_t>(count);
+    encode_threads = std::max(1, omp_get_max_threads() / count);
     threads.reserve(static_cast<std::size_t>(count));
     try {
       for (int i = 0; i < count; ++i) threads.emplace_back([this] { work(); });
@@ -69,6 +73,9 @@ struct FrameWriter::Pool {
   /// A thread: takes the frames in order and writes each one's file (or only its normals, for a
   /// sink that takes its frames in order).
   void work() {
+    // The OpenMP threads of this thread's teams (encode_mesh's, tear/write_mesh.h): its share, so
+    // that the writer threads encoding at once do not ask for more threads than there are.
+    omp_set_num_threads(encode_threads);
     // This thread's encoding buffer: its memory serves frame after frame.
     std::string bytes;
     std::unique_lock<std::mutex> lock(mutex);
@@ -177,6 +184,8 @@ void FrameWriter::finish() {
 }
 
 int FrameWriter::threads() const { return static_cast<int>(pool_->threads.size()); }
+
+int FrameWriter::encode_threads() const { return pool_->encode_threads; }
 
 std::size_t FrameWriter::max_in_flight() const { return pool_->max_in_flight; }
 
