@@ -270,3 +270,48 @@ TEST_CASE("identity: corners at old nodes keep their UVs and normals bit for bit
     CHECK(interpolated > 0);
   }
 }
+
+TEST_CASE("identity: a frame taken later is the frame as it was when asked for, while the cloth goes on", "[identity]") {
+  tear::SheetOptions sheet;
+  sheet.face_count = 800;
+  Mesh input = tear::make_sheet(sheet);
+  input.corner_normal.assign(9 * std::size_t(input.face_count()), 0.0f);
+  for (std::size_t c = 0; c < input.corner_normal.size(); c += 3) input.corner_normal[c + 2] = 1.0f;
+  tear::Cloth cloth(input, tear::test::test_device());
+  tear::SimulationOptions o;
+  o.fps = 24;
+  cloth.simulate(o);
+  cloth.step();
+  cloth.cut({cut_rest_xy({{-0.1, 0.3}, {0.7, 0.5}})});
+  cloth.step();
+  tear::PendingMesh later = cloth.mesh_later();
+  tear::PendingMesh without_normals = cloth.mesh_later(false);
+  cloth.mesh_later();  // dropped without being taken
+  const Mesh now = cloth.mesh();
+  REQUIRE(!now.torn_edge_nodes.empty());
+  REQUIRE(!now.corner_uv.empty());
+  REQUIRE(now.corner_normal.size() == 9 * std::size_t(now.face_count()));
+  // The cloth goes on: cut again and stepped, so its arrays change (and grow) under the copies.
+  cloth.cut({cut_rest_xy({{0.2, -0.1}, {0.6, 1.1}})});
+  cloth.step();
+  cloth.step();
+  const Mesh after = cloth.mesh();
+  REQUIRE(after.node_count() > now.node_count());
+  REQUIRE(after.face_count() > now.face_count());
+
+  const auto same_frame = [&](const Mesh& m, bool normals) {
+    CHECK(m.node_pos == now.node_pos);
+    CHECK(m.face_nodes == now.face_nodes);
+    CHECK(m.corner_uv == now.corner_uv);
+    CHECK(m.corner_normal == (normals ? now.corner_normal : std::vector<float>()));
+    CHECK(m.node_vel == now.node_vel);
+    CHECK(m.node_origin_face == now.node_origin_face);
+    CHECK(m.node_origin_bary == now.node_origin_bary);
+    CHECK(m.torn_edge_nodes == now.torn_edge_nodes);
+  };
+  same_frame(later.take(), true);
+  same_frame(without_normals.take(), false);
+  const Mesh again = later.take();
+  CHECK(again.node_count() == 0);
+  CHECK(again.face_count() == 0);
+}

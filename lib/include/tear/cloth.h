@@ -10,6 +10,7 @@
 #include "tear/cut_script.h"
 #include "tear/device.h"
 #include "tear/mesh.h"
+#include "tear/pending_mesh.h"
 #include "tear/topology.h"
 
 namespace tear {
@@ -139,6 +140,15 @@ class Cloth {
   /// The current mesh: positions, faces, per-corner UVs and normals, and the identity arrays
   /// (velocities, origins, the border edges made by cuts).
   Mesh mesh() const;
+  /// The same mesh, its copy to the host queued behind the work queued so far; returns without
+  /// waiting for it, and the cloth may be cut and stepped meanwhile: `PendingMesh::take` waits for
+  /// the copy (on CUDA the frame is copied within the device, then to the host on a stream of its
+  /// own, beside the cloth's later work). `corner_normals` false leaves `corner_normal` empty, for a
+  /// writer that computes them again.
+  PendingMesh mesh_later(bool corner_normals = true) const;
+  /// Whether the cloth carries per-corner normals (the mesh it was made from had them).
+  bool has_corner_normals() const;
+  std::vector<index_t> face_nodes() const;  ///< [face_count * 3]
   Topology topology() const;
   std::vector<float> node_pos() const;   ///< [node_count * 3] metres
   std::vector<float> node_rest() const;  ///< [node_count * 3] metres

@@ -15,6 +15,7 @@
 
 #include "tear/frame_sink.h"
 #include "tear/mesh.h"
+#include "tear/pending_mesh.h"
 
 namespace tear {
 
@@ -33,8 +34,9 @@ struct FrameWriterOptions {
 
 /// Writes the frames of a run to a `FrameSink` on threads of its own, in frame order.
 ///
-/// `write` hands a frame's mesh over (moved, not copied) and returns at once unless
-/// `max_in_flight` frames are already in flight. A thread then computes the frame's normals when
+/// `write` hands a frame's mesh over (moved, not copied, or still on its way from the backend) and
+/// returns at once unless `max_in_flight` frames are already in flight. A thread then waits for a
+/// mesh on its way, computes the frame's normals when
 /// asked (`area_weighted_corner_normals`) and, for a sink of one file per frame
 /// (`FrameSink::stages_files`), encodes the frame and writes it to its temporary file
 /// (`FrameSink::stage`); several frames are encoded at once, each on a team of
@@ -65,6 +67,9 @@ class FrameWriter {
   /// frames that are written; waits while `max_in_flight` frames are in flight; throws the
   /// failure of a frame handed over earlier.
   void write(int frame, Mesh mesh, bool recompute_normals, std::function<void()> on_written);
+  /// The same for a mesh still on its way from the backend (`Cloth::mesh_later`): the thread that
+  /// writes the frame waits for it, this one does not.
+  void write(int frame, PendingMesh mesh, bool recompute_normals, std::function<void()> on_written);
 
   /// Waits for every frame handed over and renames them (calling their `on_written`); throws the
   /// first failure as `write` does. The writer takes more frames afterwards. After a failure,

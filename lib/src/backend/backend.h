@@ -154,6 +154,17 @@ struct Traits<Omp> {
   static void* allocate_staging(std::size_t n) { return std::malloc(n); }
   static void free_staging(void* p, std::size_t) { std::free(p); }
   static void copy_to_staging(void* host, const void* from, std::size_t n) { std::memcpy(host, from, n); }
+  /// A copy of backend memory to the host that runs beside the backend's later work (`start`),
+  /// waited for by `wait` on any one thread. On the CPU backend memory is host memory: nothing is
+  /// copied, and `wait` returns the memory itself, which must stay as it is until then.
+  class HostCopy {
+   public:
+    void start(const void* from, std::size_t) { data_ = from; }
+    const void* wait() { return data_; }
+
+   private:
+    const void* data_ = nullptr;
+  };
   /// A point in the backend's queue of work, to time what lies between two (`elapsed_ms`, once
   /// both are passed). On the CPU the work is done when its call returns: the host's clock.
   class QueueMark {
@@ -316,6 +327,72 @@ struct Traits<Cuda> {
       throw std::bad_alloc();
     }
   }
+  /// The stream of `HostCopy`: one of its own, that does not wait for the default stream's later
+  /// work (non-blocking), so a frame's copy runs while the next frame computes. The default stream
+  /// where one cannot be made.
+  static cudaStream_t copy_stream() {
+    static const cudaStream_t stream = [] {
+      cudaStream_t s = nullptr;
+      if (cudaStreamCreateWithFlags(&s, cudaStreamNonBlocking) != cudaSuccess) {
+        cudaGetLastError();
+        s = nullptr;
+      }
+      return s;
+    }();
+    return stream;
+  }
+  /// A copy of device memory to page-locked host memory on `copy_stream`, queued by `start` behind
+  /// the default stream's work so far and waited for by `wait` on any one thread; the default
+  /// stream goes on meanwhile. The device memory must stay as it is until the copy is waited for
+  /// (the destructor waits too). The host memory comes from the staging pool in sizes rounded up
+  /// to a power of two, so frames that grow a little at a time reuse blocks.
+  class HostCopy {
+   public:
+    HostCopy() = default;
+    HostCopy(const HostCopy&) = delete;
+    HostCopy& operator=(const HostCopy&) = delete;
+    ~HostCopy() {
+      if (done_) {
+        cudaEventSynchronize(done_);
+        cudaEventDestroy(done_);
+        cudaGetLastError();
+      }
+      if (host_) free_staging(host_, capacity_);
+    }
+    void start(const void* from, std::size_t n) {
+      capacity_ = std::size_t(1) << 16;
+      while (capacity_ < n) capacity_ *= 2;
+      host_ = allocate_staging(capacity_);
+      if (!host_) throw std::bad_alloc();
+      if (n == 0) return;
+      const cudaStream_t stream = copy_stream();
+      cudaEvent_t queued = nullptr;
+      cudaError_t status = cudaEventCreateWithFlags(&queued, cudaEventDisableTiming);
+      if (status == cudaSuccess) status = cudaEventRecord(queued, 0);
+      if (status == cudaSuccess) status = cudaStreamWaitEvent(stream, queued, 0);
+      if (queued) cudaEventDestroy(queued);  // released once the stream has passed it
+      if (status == cudaSuccess) status = cudaMemcpyAsync(host_, from, n, cudaMemcpyDeviceToHost, stream);
+      if (status == cudaSuccess) status = cudaEventCreateWithFlags(&done_, cudaEventDisableTiming);
+      if (status == cudaSuccess) status = cudaEventRecord(done_, stream);
+      if (status != cudaSuccess) fail(status);
+    }
+    const void* wait() {
+      if (done_) {
+        const cudaError_t status = cudaEventSynchronize(done_);
+        if (status != cudaSuccess) fail(status);
+      }
+      return host_;
+    }
+
+   private:
+    [[noreturn]] static void fail(cudaError_t status) {
+      cudaGetLastError();
+      throw runtime_error(std::string("a frame could not be copied from the device: ") + cudaGetErrorString(status));
+    }
+    void* host_ = nullptr;
+    std::size_t capacity_ = 0;
+    cudaEvent_t done_ = nullptr;
+  };
   /// A point in the default stream (a CUDA event), to time the device's work between two
   /// (`elapsed_ms`, once the device has passed both) without waiting for it in between.
   class QueueMark {

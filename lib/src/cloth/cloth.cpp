@@ -92,7 +92,10 @@ Device Cloth::device() const { return engine_->device(); }
 index_t Cloth::node_count() const { return engine_->node_count(); }
 index_t Cloth::face_count() const { return engine_->face_count(); }
 CutStats Cloth::cut(const std::vector<CutLine>& cuts, const CutOptions& options) { return engine_->cut(cuts, options); }
-Mesh Cloth::mesh() const { return engine_->mesh(); }
+Mesh Cloth::mesh() const { return engine_->mesh_later(true).take(); }
+PendingMesh Cloth::mesh_later(bool corner_normals) const { return engine_->mesh_later(corner_normals); }
+bool Cloth::has_corner_normals() const { return engine_->has_corner_normals(); }
+std::vector<index_t> Cloth::face_nodes() const { return engine_->face_nodes(); }
 Topology Cloth::topology() const { return engine_->topology(); }
 std::vector<float> Cloth::node_pos() const { return engine_->node_pos(); }
 std::vector<float> Cloth::node_rest() const { return engine_->node_rest(); }
@@ -119,6 +122,28 @@ void Cloth::set_node_state(const std::vector<float>& node_pos, const std::vector
                                       " coordinates each, got " + std::to_string(node_pos.size()) + " positions and " +
                                       std::to_string(node_vel.size()) + " velocities");
   engine_->set_node_state(node_pos, node_vel);
+}
+
+}  // namespace tear
+
+namespace tear {
+
+PendingMesh::PendingMesh() = default;
+PendingMesh::PendingMesh(Mesh mesh) : mesh_(std::move(mesh)) {}
+PendingMesh::PendingMesh(std::unique_ptr<Source> source) : source_(std::move(source)) {}
+PendingMesh::~PendingMesh() = default;
+PendingMesh::PendingMesh(PendingMesh&&) noexcept = default;
+PendingMesh& PendingMesh::operator=(PendingMesh&&) noexcept = default;
+
+Mesh PendingMesh::take() {
+  if (!source_) {
+    Mesh mesh = std::move(mesh_);
+    mesh_ = Mesh();
+    return mesh;
+  }
+  // The source goes as soon as its mesh is built: its memory on both sides is released here.
+  const std::unique_ptr<Source> source = std::move(source_);
+  return source->take();
 }
 
 }  // namespace tear

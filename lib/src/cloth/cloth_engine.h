@@ -6,6 +6,7 @@
 
 #include "backend/systems.h"
 #include "tear/cloth.h"
+#include "tear/pending_mesh.h"
 #include "tear/simulation.h"
 
 namespace tear {
@@ -23,7 +24,10 @@ class Cloth::Engine {
   virtual void step(int frame) = 0;
   virtual bool state_is_finite() const = 0;
   virtual TearStats last_tear() const = 0;
-  virtual Mesh mesh() const = 0;
+  /// The mesh, its copy to the host queued (`Cloth::mesh_later`).
+  virtual PendingMesh mesh_later(bool corner_normals) const = 0;
+  virtual bool has_corner_normals() const = 0;
+  virtual std::vector<index_t> face_nodes() const = 0;
   virtual Topology topology() const = 0;
   virtual std::vector<float> node_pos() const = 0;
   virtual std::vector<float> node_rest() const = 0;

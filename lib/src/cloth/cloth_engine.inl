@@ -17,6 +17,7 @@
 #include "cloth/cloth_engine.h"
 #include "cloth/device_cloth.h"
 #include "node_identity.h"
+#include "tear/pending_mesh.h"
 #include "remesh/remesher.h"
 #include "sim/pd_solver_device.h"
 #include "topology/device_topology.h"
@@ -69,6 +70,63 @@ struct is_not_finite {
   TEAR_HD bool operator()(float x) const { return !kernels::is_finite(x); }
 };
 }  // namespace
+
+/// A frame on its way to the host (`Cloth::mesh_later`): its arrays in one block of backend memory,
+/// copied to the host beside the backend's later work; `take` builds the mesh from the copy.
+template <class System>
+struct MeshCopy final : PendingMesh::Source {
+  index_t nodes = 0, faces = 0;
+  std::size_t uv = 0, normal = 0;  // floats of corner UVs and normals copied (0: none)
+  std::size_t at_pos = 0, at_vel = 0, at_origin_bary = 0, at_origin_face = 0, at_faces = 0, at_uv = 0, at_normal = 0,
+              at_torn = 0, bytes = 0;  // byte offsets in `frame`, and its size
+  vector<System, char> frame;          // before `copy`: freed after the copy is waited for
+  typename Traits<System>::HostCopy copy;
+
+  void lay_out() {
+    const std::size_t n = static_cast<std::size_t>(nodes), f = static_cast<std::size_t>(faces);
+    const auto place = [&](std::size_t size) {
+      const std::size_t at = bytes;
+      bytes = (bytes + size + 15) / 16 * 16;
+      return at;
+    };
+    at_pos = place(3 * n * sizeof(float));
+    at_vel = place(3 * n * sizeof(float));
+    at_origin_bary = place(2 * n * sizeof(float));
+    at_origin_face = place(n * sizeof(index_t));
+    at_faces = place(3 * f * sizeof(index_t));
+    at_uv = place(uv * sizeof(float));
+    at_normal = place(normal * sizeof(float));
+    at_torn = place(3 * f);
+  }
+
+  Mesh take() override {
+    const char* host = static_cast<const char*>(copy.wait());
+    const std::size_t n = static_cast<std::size_t>(nodes), f = static_cast<std::size_t>(faces);
+    Mesh m;
+    assign(m.node_pos, host + at_pos, 3 * n);
+    assign(m.node_vel, host + at_vel, 3 * n);
+    assign(m.node_origin_bary, host + at_origin_bary, 2 * n);
+    assign(m.node_origin_face, host + at_origin_face, n);
+    assign(m.face_nodes, host + at_faces, 3 * f);
+    assign(m.corner_uv, host + at_uv, uv);
+    assign(m.corner_normal, host + at_normal, normal);
+    const auto* torn = reinterpret_cast<const std::uint8_t*>(host + at_torn);
+    for (std::size_t corner = 0; corner < 3 * f; ++corner)
+      if (torn[corner]) {
+        const std::size_t face = corner / 3, k = corner % 3;
+        m.torn_edge_nodes.push_back(m.face_nodes[3 * face + k]);
+        m.torn_edge_nodes.push_back(m.face_nodes[3 * face + (k + 1) % 3]);
+      }
+    return m;
+  }
+
+ private:
+  template <class T>
+  static void assign(std::vector<T>& v, const char* from, std::size_t count) {
+    v.resize(count);
+    if (count > 0) std::memcpy(v.data(), from, count * sizeof(T));
+  }
+};
 
 template <class System>
 class ClothEngine final : public Cloth::Engine {
@@ -198,41 +256,47 @@ class ClothEngine final : public Cloth::Engine {
            !thrust::any_of(policy, cloth_.node_vel.begin(), cloth_.node_vel.end(), is_not_finite{});
   }
 
-  Mesh mesh() const override {
+  PendingMesh mesh_later(bool corner_normals) const override {
     const DeviceCloth<System>& c = cloth_;
-    const index_t n_count = c.node_count(), f_count = c.face_count();
-    Mesh m;
-    m.node_pos = to_host<float>(c.node_pos);
-    m.face_nodes = to_host<index_t>(c.face_nodes);
-    m.corner_uv = to_host<float>(c.corner_uv);
-    m.corner_normal = to_host<float>(c.corner_normal);
-    m.node_vel = to_host<float>(c.node_vel);
-    // Origins and torn edges, derived on the backend from the carried face and corner origins.
-    const thrust::counting_iterator<index_t> zero(0);
+    auto copy = std::make_unique<MeshCopy<System>>();
+    MeshCopy<System>& m = *copy;
+    m.nodes = c.node_count();
+    m.faces = c.face_count();
+    const std::size_t f = static_cast<std::size_t>(m.faces);
+    m.uv = c.corner_uv.empty() ? 0 : 6 * f;
+    m.normal = !corner_normals || c.corner_normal.empty() ? 0 : 9 * f;
+    m.lay_out();
+    resize_for_overwrite(m.frame, m.bytes);
+    char* base = raw<char>(m.frame);
+    // The frame's arrays into one block of backend memory, queued behind its work: the cloth goes on
+    // while the block is copied to the host.
     const auto policy = Traits<System>::policy();
-    vec<index_t> origin_face(n_count);
-    vec<float> origin_bary(2 * std::size_t(n_count));
-    thrust::for_each(policy, zero, zero + n_count,
-                     kernels::gather_node_origins{raw<index_t>(c.face_nodes), raw<index_t>(c.topo.node_face_offset),
-                                                  raw<index_t>(c.topo.node_faces), raw<index_t>(c.face_origin),
-                                                  raw<float>(c.corner_origin), raw<index_t>(origin_face),
-                                                  raw<float>(origin_bary)});
-    vec<std::uint8_t> corner_torn(3 * std::size_t(f_count));
-    thrust::for_each(policy, zero, zero + 3 * f_count,
-                     kernels::mark_torn_corners{raw<index_t>(c.topo.face_edges), raw<index_t>(c.topo.edge_faces),
-                                                raw<index_t>(c.face_origin), raw<float>(c.corner_origin),
-                                                raw<std::uint8_t>(c.input_face_border), raw<std::uint8_t>(corner_torn)});
-    m.node_origin_face = to_host<index_t>(origin_face);
-    m.node_origin_bary = to_host<float>(origin_bary);
-    const std::vector<std::uint8_t> torn = to_host<std::uint8_t>(corner_torn);
-    for (std::size_t corner = 0; corner < torn.size(); ++corner)
-      if (torn[corner]) {
-        const std::size_t f = corner / 3, k = corner % 3;
-        m.torn_edge_nodes.push_back(m.face_nodes[3 * f + k]);
-        m.torn_edge_nodes.push_back(m.face_nodes[3 * f + (k + 1) % 3]);
-      }
-    return m;
+    const auto into = [&](const auto& v, std::size_t at) {
+      using T = typename std::decay_t<decltype(v)>::value_type;
+      const T* from = raw<T>(v);
+      thrust::copy(policy, from, from + v.size(), reinterpret_cast<T*>(base + at));
+    };
+    into(c.node_pos, m.at_pos);
+    into(c.node_vel, m.at_vel);
+    into(c.face_nodes, m.at_faces);
+    if (m.uv) into(c.corner_uv, m.at_uv);
+    if (m.normal) into(c.corner_normal, m.at_normal);
+    // Origins and torn edges, derived on the backend from the carried face and corner origins.
+    for_each_index<System>(m.nodes, kernels::gather_node_origins{
+                                        raw<index_t>(c.face_nodes), raw<index_t>(c.topo.node_face_offset),
+                                        raw<index_t>(c.topo.node_faces), raw<index_t>(c.face_origin),
+                                        raw<float>(c.corner_origin), reinterpret_cast<index_t*>(base + m.at_origin_face),
+                                        reinterpret_cast<float*>(base + m.at_origin_bary)});
+    for_each_index<System>(3 * m.faces, kernels::mark_torn_corners{
+                                            raw<index_t>(c.topo.face_edges), raw<index_t>(c.topo.edge_faces),
+                                            raw<index_t>(c.face_origin), raw<float>(c.corner_origin),
+                                            raw<std::uint8_t>(c.input_face_border),
+                                            reinterpret_cast<std::uint8_t*>(base + m.at_torn)});
+    m.copy.start(base, m.bytes);
+    return PendingMesh(std::move(copy));
   }
+  bool has_corner_normals() const override { return !cloth_.corner_normal.empty(); }
+  std::vector<index_t> face_nodes() const override { return to_host<index_t>(cloth_.face_nodes); }
   Topology topology() const override { return download(cloth_.topo); }
   std::vector<float> node_pos() const override { return to_host<float>(cloth_.node_pos); }
   std::vector<float> node_rest() const override { return to_host<float>(cloth_.node_rest); }

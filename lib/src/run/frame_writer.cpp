@@ -22,7 +22,8 @@ struct FrameWriter::Pool {
   struct Frame {
     enum class Stage { waiting, writing, written, failed };
     int frame = 0;
-    Mesh mesh;  // released once its file is written
+    PendingMesh pending;  // taken into `mesh` by the thread that writes the frame
+    Mesh mesh;            // released once its file is written
     bool recompute_normals = false;
     std::function<void()> on_written;
     Stage stage = Stage::waiting;
@@ -87,6 +88,7 @@ struct FrameWriter::Pool {
       lock.unlock();
       std::exception_ptr failure;
       try {
+        frame->mesh = frame->pending.take();
         Mesh& mesh = frame->mesh;
         if (frame->recompute_normals) mesh.corner_normal = area_weighted_corner_normals(mesh);
         if (stages_files) {
@@ -165,12 +167,16 @@ FrameWriter::FrameWriter(FrameSink& sink, FrameWriterOptions options) : pool_(st
 FrameWriter::~FrameWriter() = default;
 
 void FrameWriter::write(int frame, Mesh mesh, bool recompute_normals, std::function<void()> on_written) {
+  write(frame, PendingMesh(std::move(mesh)), recompute_normals, std::move(on_written));
+}
+
+void FrameWriter::write(int frame, PendingMesh mesh, bool recompute_normals, std::function<void()> on_written) {
   Pool& pool = *pool_;
   std::unique_lock<std::mutex> lock(pool.mutex);
   pool.commit_ready(lock, pool.max_in_flight - 1);
   auto handed = std::make_unique<Pool::Frame>();
   handed->frame = frame;
-  handed->mesh = std::move(mesh);
+  handed->pending = std::move(mesh);
   handed->recompute_normals = recompute_normals;
   handed->on_written = std::move(on_written);
   pool.frames.push_back(std::move(handed));

@@ -217,6 +217,8 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
 
   nlohmann::json frames = nlohmann::json::array();
   double remesh_ms = 0, simulation_ms = 0, download_ms = 0, write_wait_ms = 0;
+  double min_angle = 0;  // of the rest shape, for the report
+  bool min_angle_known = false;
   RunSummary summary;
   const std::unique_ptr<FrameSink> sink = make_sink(pattern, script, options);
   Cloth cloth(mesh, options.device);
@@ -245,17 +247,22 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     FrameResult written = frame;
     written.output_frame = options.start_frame + frame.frame - 1;
     written.path = sink->path_of(written.output_frame);
-    // The download is all this thread does of the frame's output: normals, encoding and the file
-    // are the writer's.
+    // Queuing the frame's copy to the host is all this thread does of its output: the copy runs
+    // beside the next frames, and the writer's thread waits for it, computes the normals (those the
+    // cloth carries are not copied then), encodes the frame and writes its file.
+    const bool normals = frame.simulated && cut_cloth.has_corner_normals();
     const Clock::time_point download_start = Clock::now();
-    Mesh out = cut_cloth.mesh();
+    PendingMesh out = cut_cloth.mesh_later(!normals);
     download_ms += ms_since(download_start);
     if (!options.report_path.empty()) {
       nlohmann::json entry = frame_report(written, cut_cloth);
       add_tearing(entry, written);
-      // The remesher's quality is a property of the rest shape; without simulation it is also the
-      // written shape.
-      const double min_angle = min_face_angle_deg(out.face_nodes, cut_cloth.node_rest());
+      // The remesher's quality is a property of the rest shape (without simulation also the shape
+      // written), which only cuts and tears change: measured again after those.
+      if (!min_angle_known || frame.cut_count > 0 || frame.tear_events > 0) {
+        min_angle = min_face_angle_deg(cut_cloth.face_nodes(), cut_cloth.node_rest());
+        min_angle_known = true;
+      }
       if (std::isfinite(min_angle)) entry["min_angle_deg"] = min_angle;
       frames.push_back(entry);
     }
@@ -269,7 +276,6 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     // The cloth as this frame left it, saved now (the cloth moves on) and written once the frame,
     // and every frame before it, is on disk: a resumed run never skips a frame.
     std::string state = checkpoint ? cut_cloth.save_state() : std::string();
-    const bool normals = frame.simulated && out.has_normals();
     const Clock::time_point hand_over_start = Clock::now();
     writer.write(written.output_frame, std::move(out), normals,
                  [&, written, checkpoint, state = std::move(state)]() mutable {
