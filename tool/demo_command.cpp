@@ -48,6 +48,8 @@ std::string output_pattern(const std::string& output) {
 
 void run_demo(const DemoCommandOptions& options) {
   const Device device = select_device(options.device);
+  // The GPU's context is made while the scene is built.
+  const DeviceWarmUp warm_up(device);
   const std::string pattern = output_pattern(options.output_folder);
   FramePattern(pattern).check(1);
   const DemoResolution resolution = parse_demo_resolution(options.resolution);

@@ -90,6 +90,8 @@ void print_human(std::ostream& out, const std::string& path, Device device, cons
 
 void run_info(const InfoOptions& options) {
   const Device device = select_device(options.device);
+  // The GPU's context is made while the input is read.
+  const DeviceWarmUp warm_up(device);
   const Mesh mesh = read_checked_mesh(options.mesh_path, options.read, device);
   const Topology topology = build_topology(mesh, device);
   const MeshReport report = validate_mesh(mesh, topology, device);

@@ -77,6 +77,8 @@ void print_frame(const FrameResult& frame, int last_frame) {
 void run_run(const RunCommandOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const Device device = select_device(options.device);
+  // The GPU's context is made while the input is read.
+  const DeviceWarmUp warm_up(device);
   // The pattern's syntax and the format of its extension are usage errors, found before any input is read.
   FramePattern(options.output_pattern).check(1);
   // Stage metadata exists in USD only: a flag that another format would silently drop is refused.

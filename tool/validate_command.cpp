@@ -27,6 +27,8 @@ std::string plural(std::size_t n, const char* one, const char* many) {
 
 void run_validate(const ValidateOptions& options) {
   const Device device = select_device(options.device);
+  // The GPU's context is made while the input is read.
+  const DeviceWarmUp warm_up(device);
   const CutScript script = read_cut_script(options.script_path);
   if (options.has_mesh) {
     const Mesh mesh = read_checked_mesh(options.mesh_path, options.read, device);

@@ -3,6 +3,7 @@
 
 #include <cstddef>
 #include <string>
+#include <thread>
 
 namespace tear {
 
@@ -20,6 +21,21 @@ bool cuda_available();
 /// GPU is present, else the CPU. `cuda` without a GPU (or in a CPU-only build) throws a usage
 /// error. `cuda:N` also makes GPU N the current device.
 Device select_device(const std::string& spec);
+
+/// Makes `device` ready for work on a thread of its own while the caller goes on (reading its
+/// input, say): on CUDA it creates the current GPU's context, which takes a tenth of a second and
+/// more and would otherwise be waited for at the first use of the GPU; that first use now waits
+/// only for what is left of it. Nothing on the CPU. The destructor waits for the thread.
+class DeviceWarmUp {
+ public:
+  explicit DeviceWarmUp(Device device);
+  ~DeviceWarmUp();
+  DeviceWarmUp(const DeviceWarmUp&) = delete;
+  DeviceWarmUp& operator=(const DeviceWarmUp&) = delete;
+
+ private:
+  std::thread thread_;
+};
 
 /// "cpu" or "cuda".
 const char* to_string(Device device);

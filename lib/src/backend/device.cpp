@@ -4,6 +4,7 @@
 
 #include <atomic>
 #include <string>
+#include <system_error>
 
 #include "backend/device_memory.h"
 
@@ -55,6 +56,31 @@ Device select_device(const std::string& spec) {
     return Device::cuda;
   }
   throw Error(ErrorKind::usage, "--device " + spec + ": expected auto, cpu, cuda or cuda:N");
+}
+
+DeviceWarmUp::DeviceWarmUp(Device device) {
+#if TEAR_WITH_CUDA
+  if (device != Device::cuda) return;
+  int ordinal = 0;
+  if (cudaGetDevice(&ordinal) != cudaSuccess) {
+    cudaGetLastError();
+    return;
+  }
+  try {
+    // The current device is the calling thread's: the warm-up thread selects the same one.
+    thread_ = std::thread([ordinal] {
+      if (cudaSetDevice(ordinal) != cudaSuccess || cudaFree(nullptr) != cudaSuccess) cudaGetLastError();
+    });
+  } catch (const std::system_error&) {
+    // No thread to spare: the first use of the GPU creates the context, as it would have.
+  }
+#else
+  static_cast<void>(device);
+#endif
+}
+
+DeviceWarmUp::~DeviceWarmUp() {
+  if (thread_.joinable()) thread_.join();
 }
 
 namespace {
