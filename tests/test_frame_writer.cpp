@@ -6,8 +6,11 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <csignal>
 #include <filesystem>
+#include <map>
+#include <mutex>
 #include <string>
 #include <thread>
 #include <vector>
@@ -107,9 +110,45 @@ class TeamFrameFiles final : public tear::FrameSink {
   mutable std::atomic<int> most_threads_{0}, least_threads_{1 << 30};
 };
 
+/// Frame files that note each frame's OpenMP team; frame 1's stage waits (10 s at most) until
+/// frame 2's has begun.
+class GatedTeamFrameFiles final : public tear::FrameSink {
+ public:
+  explicit GatedTeamFrameFiles(const fs::path& pattern) : files_(tear::FramePattern(pattern.string())) {}
+  void write(int frame, const tear::Mesh& mesh) override { files_.write(frame, mesh); }
+  std::string path_of(int frame) const override { return files_.path_of(frame); }
+  bool stages_files() const override { return true; }
+  tear::TemporaryFile stage(int frame, const tear::Mesh& mesh, std::string& bytes) const override {
+    std::unique_lock<std::mutex> lock(mutex_);
+    teams_[frame] = omp_get_max_threads();
+    if (frame == 2) {
+      two_began_ = true;
+      began_.notify_all();
+    }
+    if (frame == 1) began_.wait_for(lock, std::chrono::seconds(10), [&] { return two_began_; });
+    lock.unlock();
+    return files_.stage(frame, mesh, bytes);
+  }
+  int team(int frame) const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return teams_.count(frame) ? teams_.at(frame) : 0;
+  }
+  bool frame_two_began() const {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return two_began_;
+  }
+
+ private:
+  tear::FrameFiles files_;
+  mutable std::mutex mutex_;
+  mutable std::condition_variable began_;
+  mutable std::map<int, int> teams_;
+  mutable bool two_began_ = false;
+};
+
 }  // namespace
 
-TEST_CASE("frame_writer: each writer thread encodes on its share of the OpenMP threads", "[writer]") {
+TEST_CASE("frame_writer: a frame written alone is encoded on all the OpenMP threads", "[writer]") {
   TempDir dir;
   const int available = omp_get_max_threads();
   for (int threads : {1, 2, 3, 64}) {
@@ -120,12 +159,36 @@ TEST_CASE("frame_writer: each writer thread encodes on its share of the OpenMP t
     {
       tear::FrameWriter writer(sink, options);
       CHECK(writer.encode_threads() == std::max(1, available / threads));
-      for (int frame = 1; frame <= 6; ++frame) writer.write(frame, regular_sheet(), false, {});
-      writer.finish();
+      for (int frame = 1; frame <= 3; ++frame) {
+        writer.write(frame, regular_sheet(), false, {});
+        writer.finish();  // the next frame is handed over once this one is on disk
+      }
     }
-    CHECK(sink.least_threads() == std::max(1, available / threads));
-    CHECK(sink.most_threads() == std::max(1, available / threads));
+    CHECK(sink.least_threads() == available);
+    CHECK(sink.most_threads() == available);
     CHECK(omp_get_max_threads() == available);  // the caller's own count is left alone
+  }
+}
+
+TEST_CASE("frame_writer: frames written at once share the OpenMP threads", "[writer]") {
+  TempDir dir;
+  const int available = omp_get_max_threads();
+  INFO(available << " OpenMP threads");
+  // Frame 1's stage waits until frame 2's has begun: frame 2 is taken while frame 1 is written.
+  GatedTeamFrameFiles sink(dir / "f.##.obj");
+  tear::FrameWriterOptions options;
+  options.threads = 2;
+  {
+    tear::FrameWriter writer(sink, options);
+    for (int frame = 1; frame <= 6; ++frame) writer.write(frame, regular_sheet(), false, {});
+    writer.finish();
+  }
+  REQUIRE(sink.frame_two_began());
+  CHECK(sink.team(1) == available);                  // taken alone
+  CHECK(sink.team(2) == std::max(1, available / 2));  // taken while frame 1 was written
+  for (int frame = 3; frame <= 6; ++frame) {
+    CHECK(sink.team(frame) >= std::max(1, available / 2));
+    CHECK(sink.team(frame) <= available);
   }
 }
 

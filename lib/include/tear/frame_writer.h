@@ -22,10 +22,11 @@ namespace tear {
 /// Options of `FrameWriter`; `RunOptions::writer_threads` and `tear run --writer-threads` set `threads`.
 struct FrameWriterOptions {
   /// Threads that compute normals, encode and write the frames; 0: min(4, hardware threads).
-  /// Each encodes a frame on a team of OpenMP threads of its own (`encode_mesh`), of
-  /// max(1, P / threads) threads, P being `omp_get_max_threads()` where the writer is made
-  /// (OMP_NUM_THREADS, else the hardware threads): a large frame is encoded in pieces, and the
-  /// teams together ask for no more than P threads.
+  /// Each encodes a frame on a team of OpenMP threads of its own (`encode_mesh`): a large frame is
+  /// encoded in pieces. The team is P / B threads (at least 1), P being `omp_get_max_threads()`
+  /// where the writer is made (OMP_NUM_THREADS, else the hardware threads) and B the frames being
+  /// written or waiting for a thread when the frame is taken, at most `threads`: a frame written
+  /// alone has all P, and threads all busy have max(1, P / threads) each.
   int threads = 0;
   /// Frames handed over and not yet renamed, at most: a hand-over waits while there are this many,
   /// so memory stays bounded however many frames a run has. 0: twice the threads.
@@ -39,8 +40,8 @@ struct FrameWriterOptions {
 /// mesh on its way, computes the frame's normals when
 /// asked (`area_weighted_corner_normals`) and, for a sink of one file per frame
 /// (`FrameSink::stages_files`), encodes the frame and writes it to its temporary file
-/// (`FrameSink::stage`); several frames are encoded at once, each on a team of
-/// `encode_threads()` OpenMP threads. Renaming happens on the thread that
+/// (`FrameSink::stage`); several frames are encoded at once, each on a team of OpenMP
+/// threads that shares P among the frames being written (`FrameWriterOptions::threads`). Renaming happens on the thread that
 /// calls `write` and `finish`, one frame after another in the order they were handed over:
 /// each call first renames every frame at the front whose file is written (`commit_temporary_file`;
 /// a sink that takes its frames in order, one USD layer for the run, gets `FrameSink::write`
@@ -77,7 +78,7 @@ class FrameWriter {
   void finish();
 
   /// The threads (`FrameWriterOptions::threads` resolved), the OpenMP threads each encodes a frame
-  /// with, and the most frames in flight allowed.
+  /// with when all are busy (max(1, P / threads)), and the most frames in flight allowed.
   int threads() const;
   int encode_threads() const;
   std::size_t max_in_flight() const;

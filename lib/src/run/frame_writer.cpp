@@ -34,7 +34,8 @@ struct FrameWriter::Pool {
   FrameSink& sink;
   const bool stages_files;
   std::size_t max_in_flight = 0;
-  int encode_threads = 1;
+  int openmp_threads = 1;  // P: omp_get_max_threads() where the writer was made
+  int encode_threads = 1;  // the team of each thread when all are busy: max(1, P / threads)
   std::vector<std::thread> threads;
 
   std::mutex mutex;
@@ -53,7 +54,8 @@ struct FrameWriter::Pool {
     const int count = options.threads > 0 ? options.threads : std::max(1, std::min(4, hardware));
     max_in_flight = options.max_in_flight > 0 ? static_cast<std::size_t>(options.max_in_flight)
                                               : 2 * static_cast<std::size_t>(count);
-    encode_threads = std::max(1, omp_get_max_threads() / count);
+    openmp_threads = omp_get_max_threads();
+    encode_threads = std::max(1, openmp_threads / count);
     threads.reserve(static_cast<std::size_t>(count));
     try {
       for (int i = 0; i < count; ++i) threads.emplace_back([this] { work(); });
@@ -71,12 +73,18 @@ struct FrameWriter::Pool {
     return nullptr;
   }
 
+  /// max(1, P / the frames being written or waiting for a thread, at most one per thread); under the lock.
+  int team_size() const {
+    std::size_t busy = 0;
+    for (const std::unique_ptr<Frame>& f : frames)
+      if ((f->stage == Frame::Stage::writing || f->stage == Frame::Stage::waiting) && f->frame < failed_frame) ++busy;
+    busy = std::min(std::max<std::size_t>(busy, 1), threads.size());
+    return std::max(1, openmp_threads / static_cast<int>(busy));
+  }
+
   /// A thread: takes the frames in order and writes each one's file (or only its normals, for a
   /// sink that takes its frames in order).
   void work() {
-    // The OpenMP threads of this thread's teams (encode_mesh's, tear/write_mesh.h): its share, so
-    // that the writer threads encoding at once do not ask for more threads than there are.
-    omp_set_num_threads(encode_threads);
     // This thread's encoding buffer: its memory serves frame after frame.
     std::string bytes;
     std::unique_lock<std::mutex> lock(mutex);
@@ -85,6 +93,11 @@ struct FrameWriter::Pool {
       to_write.wait(lock, [&] { return stopping || (frame = next_to_write()) != nullptr; });
       if (stopping) return;
       frame->stage = Frame::Stage::writing;
+      // The OpenMP team this frame is encoded on (encode_mesh's, tear/write_mesh.h): the share of P
+      // of each frame now being written or waiting for a thread (this one included), so that the
+      // threads encoding at once ask for about as many threads as there are, and a frame written
+      // alone (the one frame of a run, the last of a run) has them all.
+      omp_set_num_threads(team_size());
       lock.unlock();
       std::exception_ptr failure;
       try {
