@@ -4,10 +4,13 @@
 #include <string>
 #include <vector>
 
+#include <omp.h>
+
 #include "catch.h"
 #include "tear/error.h"
 #include "tear/make_sheet.h"
 #include "tear/read_mesh.h"
+#include "tear/run_cuts.h"
 #include "tear/topology.h"
 #include "tear/validate_mesh.h"
 #include "tear/write_mesh.h"
@@ -520,4 +523,23 @@ TEST_CASE("examples: the example meshes read back as examples/README.md describe
     const Point q = node_point(generated, generated.face_nodes[corner]);
     if (p.x != q.x || p.y != q.y || p.z != q.z) FAIL("corner " << corner << " differs from make_sheet's");
   }
+}
+
+TEST_CASE("make_sheet: the report's smallest angle is the sheet's, the same on any number of threads", "[sheet][report]") {
+  tear::SheetOptions options;
+  options.face_count = 40000;  // above the size the measurement is split among threads at
+  const tear::Mesh sheet = tear::make_sheet(options);
+  const double expected = min_angle_deg(sheet);
+  const int available = omp_get_max_threads();
+  for (int threads : {1, 2, 3, 8}) {
+    INFO(threads << " threads");
+    omp_set_num_threads(threads);
+    const double angle = tear::min_face_angle_deg(sheet.face_nodes, sheet.node_pos);
+    CHECK(angle == Approx(expected).epsilon(1e-12));
+    omp_set_num_threads(1);
+    CHECK(angle == tear::min_face_angle_deg(sheet.face_nodes, sheet.node_pos));
+  }
+  omp_set_num_threads(available);
+  // Degenerate faces only: no angle.
+  CHECK(std::isnan(tear::min_face_angle_deg({0, 1, 2}, {0, 0, 0, 1, 1, 1, 2, 2, 2})));
 }

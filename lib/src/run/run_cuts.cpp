@@ -129,8 +129,13 @@ std::vector<float> area_weighted_corner_normals(const Mesh& mesh) {
 
 double min_face_angle_deg(const std::vector<index_t>& face_nodes, const std::vector<float>& node_pos) {
   const double pi = 3.14159265358979323846;
-  double min_angle = std::numeric_limits<double>::quiet_NaN();
-  for (std::size_t f = 0; f + 2 < face_nodes.size(); f += 3) {
+  const double none = std::numeric_limits<double>::infinity();
+  const std::int64_t face_count = static_cast<std::int64_t>(face_nodes.size() / 3);
+  // A minimum is exact in any order: the same value for any number of threads.
+  double min_angle = none;
+#pragma omp parallel for reduction(min : min_angle) schedule(static) if (face_count >= 4096)
+  for (std::int64_t face = 0; face < face_count; ++face) {
+    const std::size_t f = 3 * static_cast<std::size_t>(face);
     const Vec3 p[3] = {node_at(node_pos, face_nodes[f]), node_at(node_pos, face_nodes[f + 1]),
                        node_at(node_pos, face_nodes[f + 2])};
     if (!(norm(cross(sub(p[1], p[0]), sub(p[2], p[0]))) > 0)) continue;
@@ -138,10 +143,10 @@ double min_face_angle_deg(const std::vector<index_t>& face_nodes, const std::vec
       const Vec3 u = sub(p[(k + 1) % 3], p[k]), v = sub(p[(k + 2) % 3], p[k]);
       // atan2 stays accurate near 0 and 180 degrees, where acos does not.
       const double angle = std::atan2(norm(cross(u, v)), dot(u, v)) * (180.0 / pi);
-      if (!(angle >= min_angle)) min_angle = angle;
+      if (angle < min_angle) min_angle = angle;
     }
   }
-  return min_angle;
+  return min_angle == none ? std::numeric_limits<double>::quiet_NaN() : min_angle;
 }
 
 void check_cuttable(const Mesh& mesh, const std::string& mesh_path, Device device) {
