@@ -111,7 +111,7 @@ class TeamFrameFiles final : public tear::FrameSink {
 };
 
 /// Frame files that note each frame's OpenMP team; frame 1's stage waits (10 s at most) until
-/// frame 2's has begun.
+/// frame 2's has begun, so frame 2 is taken while frame 1 is written.
 class GatedTeamFrameFiles final : public tear::FrameSink {
  public:
   explicit GatedTeamFrameFiles(const fs::path& pattern) : files_(tear::FramePattern(pattern.string())) {}
@@ -121,11 +121,8 @@ class GatedTeamFrameFiles final : public tear::FrameSink {
   tear::TemporaryFile stage(int frame, const tear::Mesh& mesh, std::string& bytes) const override {
     std::unique_lock<std::mutex> lock(mutex_);
     teams_[frame] = omp_get_max_threads();
-    if (frame == 2) {
-      two_began_ = true;
-      began_.notify_all();
-    }
-    if (frame == 1) began_.wait_for(lock, std::chrono::seconds(10), [&] { return two_began_; });
+    began_.notify_all();
+    if (frame == 1) began_.wait_for(lock, std::chrono::seconds(10), [&] { return teams_.count(2) > 0; });
     lock.unlock();
     return files_.stage(frame, mesh, bytes);
   }
@@ -133,9 +130,10 @@ class GatedTeamFrameFiles final : public tear::FrameSink {
     std::lock_guard<std::mutex> lock(mutex_);
     return teams_.count(frame) ? teams_.at(frame) : 0;
   }
-  bool frame_two_began() const {
-    std::lock_guard<std::mutex> lock(mutex_);
-    return two_began_;
+  /// Waits (10 s at most) until frame `frame`'s stage has begun; whether it has.
+  bool wait_until_began(int frame) const {
+    std::unique_lock<std::mutex> lock(mutex_);
+    return began_.wait_for(lock, std::chrono::seconds(10), [&] { return teams_.count(frame) > 0; });
   }
 
  private:
@@ -143,7 +141,6 @@ class GatedTeamFrameFiles final : public tear::FrameSink {
   mutable std::mutex mutex_;
   mutable std::condition_variable began_;
   mutable std::map<int, int> teams_;
-  mutable bool two_began_ = false;
 };
 
 }  // namespace
@@ -174,16 +171,17 @@ TEST_CASE("frame_writer: frames written at once share the OpenMP threads", "[wri
   TempDir dir;
   const int available = omp_get_max_threads();
   INFO(available << " OpenMP threads");
-  // Frame 1's stage waits until frame 2's has begun: frame 2 is taken while frame 1 is written.
   GatedTeamFrameFiles sink(dir / "f.##.obj");
   tear::FrameWriterOptions options;
   options.threads = 2;
   {
     tear::FrameWriter writer(sink, options);
-    for (int frame = 1; frame <= 6; ++frame) writer.write(frame, regular_sheet(), false, {});
+    writer.write(1, regular_sheet(), false, {});
+    REQUIRE(sink.wait_until_began(1));  // frame 1 taken alone, before frame 2 is handed over
+    for (int frame = 2; frame <= 6; ++frame) writer.write(frame, regular_sheet(), false, {});
     writer.finish();
   }
-  REQUIRE(sink.frame_two_began());
+  REQUIRE(sink.wait_until_began(2));
   CHECK(sink.team(1) == available);                  // taken alone
   CHECK(sink.team(2) == std::max(1, available / 2));  // taken while frame 1 was written
   for (int frame = 3; frame <= 6; ++frame) {
