@@ -81,6 +81,87 @@ TEST_CASE("read_mesh: glTF nodes weld at split seams in the order of first appea
   CHECK(tear::test::count_pieces(split) == 2);
 }
 
+TEST_CASE("read_mesh: glTF accessors read the same tightly packed, interleaved, normalized and with any index type",
+          "[io]") {
+  IoDir dir;
+  // The two quads above, split at their shared edge, read without welding: node i is vertex i.
+  const float xy[8][2] = {{1, 1}, {2, 0}, {1, 0}, {0, 0}, {1, 0}, {1, 1}, {0, 1}, {2, 1}};
+  const std::uint16_t uv16[8][2] = {{39321, 0}, {65535, 65535}, {39321, 65535}, {0, 65535},
+                                    {32768, 65535}, {32768, 0}, {0, 0}, {65535, 0}};
+  const std::uint32_t indices[12] = {3, 4, 5, 3, 5, 6, 2, 1, 7, 2, 7, 0};
+  const auto uv_of = [&](int v, int k) { return static_cast<float>(uv16[v][k] / 65535.0); };
+  const auto gltf = [](const std::string& buffer, const std::string& accessors, const std::string& views) {
+    return R"({"asset": {"version": "2.0"}, "scene": 0, "scenes": [{"nodes": [0]}], "nodes": [{"mesh": 0}],
+      "meshes": [{"primitives": [{"attributes": {"POSITION": 0, "TEXCOORD_0": 1}, "indices": 2}]}],
+      "accessors": [)" + accessors + R"(], "bufferViews": [)" + views + R"(],
+      "buffers": [{"byteLength": )" + std::to_string(buffer.size()) +
+           R"(, "uri": "data:application/octet-stream;base64,)" + tear::test::base64(buffer) + R"("}]})";
+  };
+  using tear::test::le_bytes;
+  tear::ReadOptions unwelded;
+  unwelded.weld = false;
+
+  // Tightly packed: positions, float UVs, 16-bit indices, each in a view of its own.
+  std::string tight;
+  for (const auto& p : xy) tight += le_bytes(p[0]) + le_bytes(p[1]) + le_bytes(0.0f);
+  for (int v = 0; v < 8; ++v) tight += le_bytes(uv_of(v, 0)) + le_bytes(uv_of(v, 1));
+  for (std::uint32_t i : indices) tight += le_bytes(static_cast<std::uint16_t>(i));
+  const tear::Mesh a = tear::read_mesh(
+      dir.file("tight.gltf",
+               gltf(tight,
+                    R"({"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3"},
+                       {"bufferView": 1, "componentType": 5126, "count": 8, "type": "VEC2"},
+                       {"bufferView": 2, "componentType": 5123, "count": 12, "type": "SCALAR"})",
+                    R"({"buffer": 0, "byteOffset": 0, "byteLength": 96}, {"buffer": 0, "byteOffset": 96, "byteLength": 64},
+                       {"buffer": 0, "byteOffset": 160, "byteLength": 24})")),
+      unwelded);
+  std::vector<float> expected_pos;
+  for (const auto& p : xy) expected_pos.insert(expected_pos.end(), {p[0], p[1], 0.0f});
+  CHECK(a.node_pos == expected_pos);
+  CHECK(a.face_nodes == std::vector<tear::index_t>(indices, indices + 12));
+  REQUIRE(a.corner_uv.size() == 24);
+  for (int c = 0; c < 12; ++c) {
+    CHECK(a.corner_uv[2 * c] == uv_of(static_cast<int>(indices[c]), 0));
+    CHECK(a.corner_uv[2 * c + 1] == 1.0f - uv_of(static_cast<int>(indices[c]), 1));
+  }
+
+  // Interleaved: position and UV of a vertex one after the other in one view of stride 20; 8-bit indices.
+  std::string interleaved;
+  for (int v = 0; v < 8; ++v)
+    interleaved += le_bytes(xy[v][0]) + le_bytes(xy[v][1]) + le_bytes(0.0f) + le_bytes(uv_of(v, 0)) + le_bytes(uv_of(v, 1));
+  for (std::uint32_t i : indices) interleaved += le_bytes(static_cast<std::uint8_t>(i));
+  const tear::Mesh b = tear::read_mesh(
+      dir.file("interleaved.gltf",
+               gltf(interleaved,
+                    R"({"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3"},
+                       {"bufferView": 0, "byteOffset": 12, "componentType": 5126, "count": 8, "type": "VEC2"},
+                       {"bufferView": 1, "componentType": 5121, "count": 12, "type": "SCALAR"})",
+                    R"({"buffer": 0, "byteOffset": 0, "byteLength": 160, "byteStride": 20},
+                       {"buffer": 0, "byteOffset": 160, "byteLength": 12})")),
+      unwelded);
+  CHECK(b.node_pos == a.node_pos);
+  CHECK(b.face_nodes == a.face_nodes);
+  CHECK(b.corner_uv == a.corner_uv);
+
+  // Normalized 16-bit UVs (k / 65535, as glTF defines them) and 32-bit indices.
+  std::string normalized;
+  for (const auto& p : xy) normalized += le_bytes(p[0]) + le_bytes(p[1]) + le_bytes(0.0f);
+  for (const auto& t : uv16) normalized += le_bytes(t[0]) + le_bytes(t[1]);
+  for (std::uint32_t i : indices) normalized += le_bytes(i);
+  const tear::Mesh c = tear::read_mesh(
+      dir.file("normalized.gltf",
+               gltf(normalized,
+                    R"({"bufferView": 0, "componentType": 5126, "count": 8, "type": "VEC3"},
+                       {"bufferView": 1, "componentType": 5123, "normalized": true, "count": 8, "type": "VEC2"},
+                       {"bufferView": 2, "componentType": 5125, "count": 12, "type": "SCALAR"})",
+                    R"({"buffer": 0, "byteOffset": 0, "byteLength": 96}, {"buffer": 0, "byteOffset": 96, "byteLength": 32},
+                       {"buffer": 0, "byteOffset": 128, "byteLength": 48})")),
+      unwelded);
+  CHECK(c.node_pos == a.node_pos);
+  CHECK(c.face_nodes == a.face_nodes);
+  CHECK(c.corner_uv == a.corner_uv);
+}
+
 TEST_CASE("read_mesh: OBJ polygons are triangulated in place, concave ones by ear clipping", "[io]") {
   IoDir dir;
   // An L-shaped hexagon (concave at v4) between a triangle and a quad; relative indices in the quad.

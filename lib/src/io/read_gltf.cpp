@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <type_traits>
 #include <filesystem>
 #include <limits>
 #include <map>
@@ -101,9 +102,11 @@ class AccessorReader {
   AccessorReader(const std::string& path, const tinygltf::Model& model, std::size_t file_size)
       : path_(path), model_(model), file_size_(file_size) {}
 
-  /// `count * components` values of accessor `index` as doubles, normalized integers mapped to
-  /// [0, 1] or [-1, 1] as glTF defines them. `what` names it in messages.
-  std::vector<double> read(int index, int components, const std::string& what) const {
+  /// `count * components` values of accessor `index` as `T`, normalized integers mapped to [0, 1]
+  /// or [-1, 1] as glTF defines them (computed in double, then converted: a float component read as
+  /// float is the float in the file). `what` names it in messages.
+  template <class T>
+  std::vector<T> read(int index, int components, const std::string& what) const {
     if (index < 0 || static_cast<std::size_t>(index) >= model_.accessors.size()) {
       throw fail(what + " uses accessor " + std::to_string(index) + ", which does not exist");
     }
@@ -123,20 +126,29 @@ class AccessorReader {
     if (count > max_index_count) throw fail(name + " has too many elements (" + std::to_string(count) + ")");
     const std::uint64_t element_size = static_cast<std::uint64_t>(component_size) * components;
 
-    std::vector<double> values;
+    std::vector<T> values;
     if (accessor.bufferView < 0) {
       // No data: zeros (to be replaced by sparse values). Bounded by the file's size so that a
       // tiny file cannot ask for gigabytes.
       if (count > file_size_) throw fail(name + " has " + std::to_string(count) + " elements and no data");
-      values.assign(count * components, 0.0);
+      values.assign(count * components, T(0));
     } else {
       std::uint64_t stride = 0;
       const unsigned char* data =
           view_data(accessor.bufferView, accessor.byteOffset, count, element_size, &stride, name);
       values.resize(count * components);
-      for (std::uint64_t i = 0; i < count; ++i) {
-        for (int k = 0; k < components; ++k) {
-          values[i * components + k] = component(data + i * stride + k * component_size, accessor);
+      if (std::is_same<T, float>::value && accessor.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+        // Floats as they are in the file: whole when tightly packed, else element by element.
+        if (stride == element_size) {
+          if (count > 0) std::memcpy(values.data(), data, count * element_size);
+        } else {
+          for (std::uint64_t i = 0; i < count; ++i) std::memcpy(&values[i * components], data + i * stride, element_size);
+        }
+      } else {
+        for (std::uint64_t i = 0; i < count; ++i) {
+          for (int k = 0; k < components; ++k) {
+            values[i * components + k] = static_cast<T>(component(data + i * stride + k * component_size, accessor));
+          }
         }
       }
     }
@@ -182,7 +194,7 @@ class AccessorReader {
         }
         for (int k = 0; k < components; ++k) {
           values[static_cast<std::size_t>(target) * components + k] =
-              component(data + s * value_stride + k * component_size, accessor);
+              static_cast<T>(component(data + s * value_stride + k * component_size, accessor));
         }
       }
       (void)index_stride;
@@ -348,12 +360,6 @@ bool has_triangles(const tinygltf::Mesh& mesh) {
   return false;
 }
 
-std::vector<float> to_floats(const std::vector<double>& values) {
-  std::vector<float> out(values.size());
-  for (std::size_t i = 0; i < values.size(); ++i) out[i] = static_cast<float>(values[i]);
-  return out;
-}
-
 }  // namespace
 
 std::optional<FileMesh> read_gltf_file(const std::string& path, const std::string& bytes,
@@ -450,31 +456,32 @@ std::optional<FileMesh> read_gltf_file(const std::string& path, const std::strin
       const std::string name = "mesh " + std::to_string(p.mesh) +
                                (mesh.name.empty() ? std::string() : " ('" + mesh.name + "')") + " primitive " +
                                std::to_string(k);
-      auto attribute = [&](const char* semantic, int components) {
+      auto attribute = [&](const char* semantic, int components, auto zero) {
+        using T = decltype(zero);
         const auto found = primitive.attributes.find(semantic);
-        if (found == primitive.attributes.end()) return std::vector<double>();
-        return reader.read(found->second, components, name + " " + semantic);
+        if (found == primitive.attributes.end()) return std::vector<T>();
+        return reader.read<T>(found->second, components, name + " " + semantic);
       };
-      const std::vector<float> position = to_floats(attribute("POSITION", 3));
+      const std::vector<float> position = attribute("POSITION", 3, 0.0f);
       const std::size_t vertex_count = position.size() / 3;
       if (out.mesh.node_pos.size() / 3 + vertex_count > max_index_count) {
         throw input_error(path, "too large: more than 2^31 vertices");
       }
-      auto per_vertex = [&](std::vector<double> values, const char* semantic, std::size_t width) {
+      auto per_vertex = [&](auto values, const char* semantic, std::size_t width) {
         if (!values.empty() && values.size() != width * vertex_count) {
           throw input_error(path, name + " has " + std::to_string(values.size() / width) + " " + semantic +
                                       " values for " + std::to_string(vertex_count) + " vertices");
         }
         return values;
       };
-      const std::vector<float> normal = to_floats(per_vertex(attribute("NORMAL", 3), "NORMAL", 3));
-      std::vector<float> uv = to_floats(per_vertex(attribute("TEXCOORD_0", 2), "TEXCOORD_0", 2));
+      const std::vector<float> normal = per_vertex(attribute("NORMAL", 3, 0.0f), "NORMAL", 3);
+      std::vector<float> uv = per_vertex(attribute("TEXCOORD_0", 2, 0.0f), "TEXCOORD_0", 2);
       // glTF puts the UV origin at the top left; tear's (OBJ's) is at the bottom left.
       for (std::size_t i = 1; i < uv.size(); i += 2) uv[i] = 1.0f - uv[i];
-      const std::vector<float> velocity = to_floats(per_vertex(attribute("_VELOCITY", 3), "_VELOCITY", 3));
+      const std::vector<float> velocity = per_vertex(attribute("_VELOCITY", 3, 0.0f), "_VELOCITY", 3);
       std::vector<index_t> id;
       if (with_ids) {
-        for (double value : per_vertex(attribute("_ID", 1), "_ID", 1)) {
+        for (double value : per_vertex(attribute("_ID", 1, 0.0), "_ID", 1)) {
           if (!(value >= 0.0 && value <= static_cast<double>(max_index_count) && value == std::floor(value))) {
             throw input_error(path, name + " has an _ID that is not a node index: " + std::to_string(value));
           }
@@ -482,7 +489,7 @@ std::optional<FileMesh> read_gltf_file(const std::string& path, const std::strin
         }
       }
 
-      std::vector<std::uint64_t> indices;
+      std::vector<std::uint32_t> indices;  // glTF's indices are unsigned bytes, shorts or ints
       if (primitive.indices >= 0) {
         if (primitive.indices >= static_cast<int>(model.accessors.size())) {
           throw input_error(path,
@@ -494,24 +501,23 @@ std::optional<FileMesh> read_gltf_file(const std::string& path, const std::strin
             type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {
           throw input_error(path, name + " has indices of component type " + std::to_string(type));
         }
-        const std::vector<double> values = reader.read(primitive.indices, 1, name + " indices");
-        indices.reserve(values.size());
-        for (std::size_t i = 0; i < values.size(); ++i) {
-          if (values[i] >= static_cast<double>(vertex_count)) {
-            throw input_error(path, name + ": index " + std::to_string(static_cast<std::uint64_t>(values[i])) +
+        indices = reader.read<std::uint32_t>(primitive.indices, 1, name + " indices");
+        for (std::size_t i = 0; i < indices.size(); ++i) {
+          if (indices[i] >= vertex_count) {
+            throw input_error(path, name + ": index " + std::to_string(indices[i]) +
                                         " (number " + std::to_string(i) + ") is out of range (the primitive has " +
                                         std::to_string(vertex_count) + " vertices)");
           }
-          indices.push_back(static_cast<std::uint64_t>(values[i]));
         }
       } else {
         indices.resize(vertex_count);
-        for (std::size_t i = 0; i < vertex_count; ++i) indices[i] = i;
+        for (std::size_t i = 0; i < vertex_count; ++i) indices[i] = static_cast<std::uint32_t>(i);
       }
 
       std::vector<index_t> triangles;
       const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
-      auto add = [&](std::uint64_t a, std::uint64_t b, std::uint64_t c) {
+      triangles.reserve(mode == TINYGLTF_MODE_TRIANGLES ? indices.size() / 3 * 3 : 3 * indices.size());
+      auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
         triangles.insert(triangles.end(), {static_cast<index_t>(a), static_cast<index_t>(b), static_cast<index_t>(c)});
       };
       if (mode == TINYGLTF_MODE_TRIANGLES) {
