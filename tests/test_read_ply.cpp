@@ -1,13 +1,17 @@
 // PLY read by hand: ASCII and both binary byte orders, tear's identity properties, hostile files.
 #include <algorithm>
+#include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "catch.h"
 #include "io_support.h"
+#include "random_meshes.h"
 #include "tear/error.h"
 #include "tear/read_mesh.h"
 #include "tear/write_mesh.h"
+#include "test_support.h"
 
 namespace {
 
@@ -176,4 +180,105 @@ TEST_CASE("read_mesh: malformed PLY files are one-line input errors, found befor
   input_error_of(dir.file("no_xyz.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float w\nend_header\n1\n"));
   input_error_of(dir.file("not_ply.ply", "solid cube\n"));
   input_error_of(dir.file("empty.ply", ""));
+}
+
+namespace {
+
+/// The outcome of reading `path` unwelded: the mesh, or the error's message after the path.
+struct PlyOutcome {
+  tear::Mesh mesh;
+  std::string error;
+};
+PlyOutcome read_outcome(const std::string& path) {
+  PlyOutcome out;
+  tear::ReadOptions unwelded;
+  unwelded.weld = false;
+  try {
+    out.mesh = tear::read_mesh(path, unwelded);
+  } catch (const tear::Error& e) {
+    out.error = std::string(e.what()).substr(path.size());
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("read_mesh: binary PLY read all at once gives the mesh and the errors of reading it value by value",
+          "[io][ply]") {
+  // The same data twice: laid out as tear writes it (read on OpenMP threads, all instances at
+  // once), and with one more property on each element (a list on the vertices, a scalar on the
+  // faces), which the reader takes value by value. Sizes reach past the size the fast paths split
+  // among threads at; some files carry a NaN, an index out of range or a face of another size.
+  const std::uint64_t seed = tear::test::test_seed(20261124);
+  INFO("seed " << seed << " (TEAR_TEST_SEED reproduces it)");
+  tear::test::Random random(seed);
+  IoDir dir;
+  for (int round = 0; round < 24; ++round) {
+    INFO("round " << round);
+    const bool big = random.chance(0.3), normals = random.chance(0.6), uvs = random.chance(0.6),
+               identity = random.chance(0.5);
+    const int corners = random.chance(0.8) ? 3 : 4;
+    const std::size_t faces = random.chance(0.4) ? 5000 + random.below(3000) : 1 + random.below(50);
+    const std::size_t vertices = 3 + random.below(static_cast<tear::index_t>(faces));
+    const int flaw = static_cast<int>(random.below(5));  // 0, 1: none; 2: NaN; 3: index; 4: corner count
+    auto f32 = [&](float v) { return big ? be_bytes(v) : le_bytes(v); };
+    auto i32 = [&](std::int32_t v) { return big ? be_bytes(v) : le_bytes(v); };
+    std::string header[2], body[2];
+    for (int serial = 0; serial < 2; ++serial) {
+      header[serial] = std::string("ply\nformat ") + (big ? "binary_big_endian" : "binary_little_endian") +
+                       " 1.0\nelement vertex " + std::to_string(vertices) + "\nproperty float x\nproperty float y\n" +
+                       "property float z\n" + (normals ? "property float nx\nproperty float ny\nproperty float nz\n" : "") +
+                       (uvs ? "property float s\nproperty float t\n" : "") +
+                       (identity ? "property int id\nproperty float vx\nproperty float vy\nproperty float vz\n"
+                                   "property int origin_face\nproperty float origin_u\nproperty float origin_v\n"
+                                 : "") +
+                       (serial ? "property list uchar int extra\n" : "") + "element face " + std::to_string(faces) +
+                       "\n" + (serial ? "property uchar flags\n" : "") + "property list uchar int vertex_indices\n" +
+                       "end_header\n";
+    }
+    const std::size_t nan_vertex = random.below(static_cast<tear::index_t>(vertices));
+    const std::size_t bad_face = random.below(static_cast<tear::index_t>(faces));
+    for (std::size_t v = 0; v < vertices; ++v) {
+      std::string record;
+      for (int a = 0; a < 3; ++a) {
+        const bool nan = flaw == 2 && v == nan_vertex && a == 1;
+        record += f32(nan ? std::numeric_limits<float>::quiet_NaN() : static_cast<float>(random.uniform(-2, 2)));
+      }
+      if (normals)
+        for (int a = 0; a < 3; ++a) record += f32(static_cast<float>(random.uniform(-1, 1)));
+      if (uvs)
+        for (int a = 0; a < 2; ++a) record += f32(static_cast<float>(random.uniform()));
+      if (identity) {
+        record += i32(static_cast<std::int32_t>(v));
+        for (int a = 0; a < 3; ++a) record += f32(static_cast<float>(random.uniform(-1, 1)));
+        record += i32(static_cast<std::int32_t>(random.below(7)) - 1);
+        for (int a = 0; a < 2; ++a) record += f32(static_cast<float>(random.uniform()));
+      }
+      body[0] += record;
+      body[1] += record + std::string(1, '\0');  // the extra list, empty
+    }
+    for (std::size_t f = 0; f < faces; ++f) {
+      const int count = flaw == 4 && f == bad_face ? 5 : corners;
+      std::string record(1, static_cast<char>(count));
+      for (int c = 0; c < count; ++c) {
+        const bool out_of_range = flaw == 3 && f == bad_face && c == 2;
+        record += i32(out_of_range ? static_cast<std::int32_t>(vertices)
+                                   : static_cast<std::int32_t>(random.below(static_cast<tear::index_t>(vertices))));
+      }
+      body[0] += record;
+      body[1] += std::string(1, '\x07') + record;  // the flags, then the corners
+    }
+    const PlyOutcome fast = read_outcome(dir.file("fast" + std::to_string(round) + ".ply", header[0] + body[0]));
+    const PlyOutcome slow = read_outcome(dir.file("slow" + std::to_string(round) + ".ply", header[1] + body[1]));
+    CHECK(fast.error == slow.error);
+    if (flaw == 2 || flaw == 3) CHECK(!fast.error.empty());
+    if (flaw != 2 && flaw != 3) REQUIRE(fast.error.empty());  // a face of another size is read, value by value
+    CHECK(fast.mesh.node_pos == slow.mesh.node_pos);
+    CHECK(fast.mesh.face_nodes == slow.mesh.face_nodes);
+    CHECK(fast.mesh.corner_uv == slow.mesh.corner_uv);
+    CHECK(fast.mesh.corner_normal == slow.mesh.corner_normal);
+    CHECK(fast.mesh.node_vel == slow.mesh.node_vel);
+    CHECK(fast.mesh.node_origin_face == slow.mesh.node_origin_face);
+    CHECK(fast.mesh.node_origin_bary == slow.mesh.node_origin_bary);
+  }
 }

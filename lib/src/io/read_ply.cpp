@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <initializer_list>
 #include <limits>
 #include <string>
 #include <vector>
@@ -376,6 +377,111 @@ Properties vertex_properties(const PlyElement& vertex) {
   return p;
 }
 
+/// Below this many instances an element's fast path runs on the calling thread alone.
+constexpr std::int64_t parallel_from = 4096;
+
+/// The vertex element of a binary file whose instances all have one layout (no lists), on OpenMP
+/// threads: each instance's values written at its own index, converted as the one-by-one loop
+/// converts them. False, with nothing written, where a value is one that loop refuses (it then
+/// reads the element and fails with its message).
+bool read_vertices_at_once(const PlyElement& element, const char* data, std::size_t stride, bool big_endian,
+                           const Properties& props, Mesh& mesh, std::vector<index_t>& vertex_id,
+                           std::vector<float>& vertex_normal, std::vector<float>& vertex_uv) {
+  const std::int64_t count = static_cast<std::int64_t>(element.count);
+  std::vector<std::size_t> offset(element.properties.size());
+  for (std::size_t i = 1; i < offset.size(); ++i) offset[i] = offset[i - 1] + size_of(element.properties[i - 1].type);
+  const std::size_t n = static_cast<std::size_t>(count);
+  mesh.node_pos.resize(3 * n);
+  if (props.nx >= 0) vertex_normal.resize(3 * n);
+  if (props.u >= 0) vertex_uv.resize(2 * n);
+  if (props.vx >= 0) mesh.node_vel.resize(3 * n);
+  if (props.id >= 0) vertex_id.resize(n);
+  if (props.origin_face >= 0) {
+    mesh.node_origin_face.resize(n);
+    mesh.node_origin_bary.resize(2 * n);
+  }
+  bool refused = false;
+#pragma omp parallel for schedule(static) reduction(|| : refused) if (count >= parallel_from)
+  for (std::int64_t instance = 0; instance < count; ++instance) {
+    const char* at = data + static_cast<std::size_t>(instance) * stride;
+    const std::size_t v = static_cast<std::size_t>(instance);
+    const auto value = [&](int property) {
+      return decode(at + offset[static_cast<std::size_t>(property)], element.properties[property].type, big_endian);
+    };
+    // As the one-by-one loop's `finite`: a refused value marks the element, and reads as 0.
+    const auto finite = [&](int property) {
+      const double x = value(property);
+      if (!std::isfinite(x) || std::fabs(x) > std::numeric_limits<float>::max()) {
+        refused = true;
+        return 0.0f;
+      }
+      return static_cast<float>(x);
+    };
+    const auto put = [&](std::vector<float>& into, std::size_t width, std::initializer_list<int> properties) {
+      std::size_t k = 0;
+      for (int property : properties) into[width * v + k++] = finite(property);
+    };
+    put(mesh.node_pos, 3, {props.x, props.y, props.z});
+    if (props.nx >= 0) put(vertex_normal, 3, {props.nx, props.ny, props.nz});
+    if (props.u >= 0) put(vertex_uv, 2, {props.u, props.v});
+    if (props.vx >= 0) put(mesh.node_vel, 3, {props.vx, props.vy, props.vz});
+    if (props.id >= 0) {
+      const double id = value(props.id);
+      if (id < 0 || id > static_cast<double>(max_index_count)) refused = true;
+      vertex_id[v] = refused ? 0 : static_cast<index_t>(id);
+    }
+    if (props.origin_face >= 0) {
+      const double face = value(props.origin_face);
+      if (face < -1 || face > static_cast<double>(max_index_count)) refused = true;
+      mesh.node_origin_face[v] = refused ? 0 : static_cast<index_t>(face);
+      put(mesh.node_origin_bary, 2, {props.origin_u, props.origin_v});
+    }
+  }
+  if (!refused) return true;
+  for (std::vector<float>* values : {&mesh.node_pos, &vertex_normal, &vertex_uv, &mesh.node_vel, &mesh.node_origin_bary})
+    values->clear();
+  vertex_id.clear();
+  mesh.node_origin_face.clear();
+  return false;
+}
+
+/// A binary face element of one property, its corner list, whose instances all have the first
+/// one's corner count k >= 3 (tear's own faces: k = 3), on OpenMP threads: the corners of instance
+/// i at i * k. Every instance's count is checked where that layout puts it, so the layout is the
+/// file's. False, with nothing written, for any other file, or where a corner is out of range: the
+/// one-by-one loop then reads the element (and fails with its message).
+bool read_faces_at_once(const PlyElement& element, const char* data, std::size_t bytes_left, bool big_endian,
+                        std::size_t vertex_count, std::vector<index_t>& corner_vertex, std::size_t& stride) {
+  const PlyProperty& list = element.properties[0];
+  const std::int64_t count = static_cast<std::int64_t>(element.count);
+  const std::size_t count_size = size_of(list.count_type), item_size = size_of(list.type);
+  if (count == 0 || bytes_left < count_size) return false;
+  const double first = decode(data, list.count_type, big_endian);
+  if (!(first >= 3 && first <= 255)) return false;
+  const std::size_t k = static_cast<std::size_t>(first);
+  stride = count_size + k * item_size;
+  if (element.count > bytes_left / stride || element.count * k > max_index_count) return false;
+  corner_vertex.resize(static_cast<std::size_t>(count) * k);
+  bool refused = false;
+#pragma omp parallel for schedule(static) reduction(|| : refused) if (count >= parallel_from)
+  for (std::int64_t instance = 0; instance < count; ++instance) {
+    const char* at = data + static_cast<std::size_t>(instance) * stride;
+    if (decode(at, list.count_type, big_endian) != first) {
+      refused = true;
+      continue;
+    }
+    for (std::size_t c = 0; c < k; ++c) {
+      const double value = decode(at + count_size + c * item_size, list.type, big_endian);
+      const bool in_range = value >= 0 && value < static_cast<double>(vertex_count);
+      refused = refused || !in_range;
+      corner_vertex[static_cast<std::size_t>(instance) * k + c] = in_range ? static_cast<index_t>(value) : 0;
+    }
+  }
+  if (!refused) return true;
+  corner_vertex.clear();
+  return false;
+}
+
 }  // namespace
 
 FileMesh read_ply_file(const std::string& path, const std::string& bytes, const std::string& mesh_name) {
@@ -470,6 +576,25 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
       stride += size_of(property.type);
     }
     fixed = fixed && element.count <= reader.bytes_left() / stride;
+    // Binary vertices and faces as tear writes them: all instances at once, on OpenMP threads.
+    if (fixed && is_vertex && element.count > 0 &&
+        read_vertices_at_once(element, reader.take(0), stride, reader.big_endian(), props, mesh, out.vertex_id,
+                              vertex_normal, vertex_uv)) {
+      reader.take(static_cast<std::size_t>(element.count) * stride);
+      continue;
+    }
+    std::size_t face_stride = 0;
+    if (is_face && indices == 0 && element.properties.size() == 1 && !reader.ascii() && corner_vertex.empty() &&
+        read_faces_at_once(element, reader.take(0), reader.bytes_left(), reader.big_endian(), vertex_count,
+                           corner_vertex, face_stride)) {
+      reader.take(static_cast<std::size_t>(element.count) * face_stride);
+      const std::size_t k = corner_vertex.size() / static_cast<std::size_t>(element.count);
+      polygon_offset.resize(static_cast<std::size_t>(element.count) + 1);
+      for (std::size_t p = 0; p < polygon_offset.size(); ++p) polygon_offset[p] = p * k;
+      polygon_has_texcoord.assign(static_cast<std::size_t>(element.count), 0);
+      corner_texcoord.assign(2 * corner_vertex.size(), 0.0f);
+      continue;
+    }
     for (std::uint64_t instance = 0; instance < element.count; ++instance) {
       reader.at(element, instance);
       polygon.clear();
@@ -565,6 +690,30 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
   mesh.face_nodes.reserve(triangle_corners);
   if (with_uv) mesh.corner_uv.reserve(2 * triangle_corners);
   if (with_normals) mesh.corner_normal.reserve(3 * triangle_corners);
+  const std::int64_t polygons = static_cast<std::int64_t>(polygon_offset.size() - 1);
+  if (corner_vertex.size() == 3 * static_cast<std::size_t>(polygons)) {
+    // Triangles only (each polygon has 3 corners or more, and they add up to 3 each): corner c of
+    // the file is corner c of the mesh, filled on OpenMP threads.
+    mesh.face_nodes = corner_vertex;
+    if (with_uv) mesh.corner_uv.resize(2 * corner_vertex.size());
+    if (with_normals) mesh.corner_normal.resize(3 * corner_vertex.size());
+#pragma omp parallel for schedule(static) if (polygons >= parallel_from)
+    for (std::int64_t p = 0; p < polygons; ++p) {
+      for (std::size_t c = 3 * static_cast<std::size_t>(p); c < 3 * static_cast<std::size_t>(p) + 3; ++c) {
+        const std::size_t v = static_cast<std::size_t>(corner_vertex[c]);
+        if (with_uv) {
+          const float* uv = face_uv && polygon_has_texcoord[static_cast<std::size_t>(p)] ? &corner_texcoord[2 * c]
+                            : !vertex_uv.empty()                                          ? &vertex_uv[2 * v]
+                                                                                          : nullptr;
+          mesh.corner_uv[2 * c] = uv ? uv[0] : 0.0f;
+          mesh.corner_uv[2 * c + 1] = uv ? uv[1] : 0.0f;
+        }
+        if (with_normals)
+          for (int a = 0; a < 3; ++a) mesh.corner_normal[3 * c + a] = vertex_normal[3 * v + a];
+      }
+    }
+    return out;
+  }
   std::vector<float> polygon_pos;
   std::vector<index_t> triangle;
   for (std::size_t p = 0; p + 1 < polygon_offset.size(); ++p) {
