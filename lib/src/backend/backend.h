@@ -360,11 +360,11 @@ struct Traits<Cuda> {
       if (host_) free_staging(host_, capacity_);
     }
     void start(const void* from, std::size_t n) {
+      if (n == 0) return;  // nothing to copy: `wait` returns null
       capacity_ = std::size_t(1) << 16;
       while (capacity_ < n) capacity_ *= 2;
       host_ = allocate_staging(capacity_);
       if (!host_) throw std::bad_alloc();
-      if (n == 0) return;
       const cudaStream_t stream = copy_stream();
       cudaEvent_t queued = nullptr;
       cudaError_t status = cudaEventCreateWithFlags(&queued, cudaEventDisableTiming);

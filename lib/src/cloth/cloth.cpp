@@ -124,10 +124,6 @@ void Cloth::set_node_state(const std::vector<float>& node_pos, const std::vector
   engine_->set_node_state(node_pos, node_vel);
 }
 
-}  // namespace tear
-
-namespace tear {
-
 PendingMesh::PendingMesh() = default;
 PendingMesh::PendingMesh(Mesh mesh) : mesh_(std::move(mesh)) {}
 PendingMesh::PendingMesh(std::unique_ptr<Source> source) : source_(std::move(source)) {}

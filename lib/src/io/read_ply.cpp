@@ -377,6 +377,16 @@ Properties vertex_properties(const PlyElement& vertex) {
   return p;
 }
 
+/// What a vertex value must be, in the fast paths and the one-by-one loop alike: a coordinate a
+/// float holds, an `id` that is a node index, an `origin_face` that is one or -1 (unknown), a
+/// corner that names one of the file's vertices.
+bool is_float_value(double value) { return std::isfinite(value) && std::fabs(value) <= std::numeric_limits<float>::max(); }
+bool is_id_value(double value) { return value >= 0 && value <= static_cast<double>(max_index_count); }
+bool is_origin_face_value(double value) { return value >= -1 && value <= static_cast<double>(max_index_count); }
+bool is_vertex_value(double value, std::size_t vertex_count) {
+  return value >= 0 && value < static_cast<double>(vertex_count);
+}
+
 /// Below this many instances an element's fast path runs on the calling thread alone.
 constexpr std::int64_t parallel_from = 4096;
 
@@ -411,7 +421,7 @@ bool read_vertices_at_once(const PlyElement& element, const char* data, std::siz
     // As the one-by-one loop's `finite`: a refused value marks the element, and reads as 0.
     const auto finite = [&](int property) {
       const double x = value(property);
-      if (!std::isfinite(x) || std::fabs(x) > std::numeric_limits<float>::max()) {
+      if (!is_float_value(x)) {
         refused = true;
         return 0.0f;
       }
@@ -427,12 +437,12 @@ bool read_vertices_at_once(const PlyElement& element, const char* data, std::siz
     if (props.vx >= 0) put(mesh.node_vel, 3, {props.vx, props.vy, props.vz});
     if (props.id >= 0) {
       const double id = value(props.id);
-      if (id < 0 || id > static_cast<double>(max_index_count)) refused = true;
+      if (!is_id_value(id)) refused = true;
       vertex_id[v] = refused ? 0 : static_cast<index_t>(id);
     }
     if (props.origin_face >= 0) {
       const double face = value(props.origin_face);
-      if (face < -1 || face > static_cast<double>(max_index_count)) refused = true;
+      if (!is_origin_face_value(face)) refused = true;
       mesh.node_origin_face[v] = refused ? 0 : static_cast<index_t>(face);
       put(mesh.node_origin_bary, 2, {props.origin_u, props.origin_v});
     }
@@ -472,7 +482,7 @@ bool read_faces_at_once(const PlyElement& element, const char* data, std::size_t
     }
     for (std::size_t c = 0; c < k; ++c) {
       const double value = decode(at + count_size + c * item_size, list.type, big_endian);
-      const bool in_range = value >= 0 && value < static_cast<double>(vertex_count);
+      const bool in_range = is_vertex_value(value, vertex_count);
       refused = refused || !in_range;
       corner_vertex[static_cast<std::size_t>(instance) * k + c] = in_range ? static_cast<index_t>(value) : 0;
     }
@@ -560,7 +570,7 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
     }
 
     auto vertex_index = [&](double value) {
-      if (!(value >= 0 && value < static_cast<double>(vertex_count))) {
+      if (!is_vertex_value(value, vertex_count)) {
         throw reader.fail("uses vertex " + std::to_string(static_cast<std::int64_t>(value)) +
                           ", out of range (the file has " + std::to_string(vertex_count) + " vertices)");
       }
@@ -632,9 +642,8 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
       if (is_vertex) {
         auto finite = [&](int property) {
           const double value = values[property];
-          if (!std::isfinite(value) || std::fabs(value) > std::numeric_limits<float>::max()) {
+          if (!is_float_value(value))
             throw reader.fail("non-finite value in '" + element.properties[property].name + "'");
-          }
           return static_cast<float>(value);
         };
         mesh.node_pos.insert(mesh.node_pos.end(), {finite(props.x), finite(props.y), finite(props.z)});
@@ -645,13 +654,12 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
           mesh.node_vel.insert(mesh.node_vel.end(), {finite(props.vx), finite(props.vy), finite(props.vz)});
         if (props.id >= 0) {
           const double id = values[props.id];
-          if (id < 0 || id > static_cast<double>(max_index_count)) throw reader.fail("'id' is negative or too large");
+          if (!is_id_value(id)) throw reader.fail("'id' is negative or too large");
           out.vertex_id.push_back(static_cast<index_t>(id));
         }
         if (props.origin_face >= 0) {
           const double face = values[props.origin_face];
-          if (face < -1 || face > static_cast<double>(max_index_count))
-            throw reader.fail("'origin_face' is out of range");
+          if (!is_origin_face_value(face)) throw reader.fail("'origin_face' is out of range");
           mesh.node_origin_face.push_back(static_cast<index_t>(face));
           mesh.node_origin_bary.insert(mesh.node_origin_bary.end(), {finite(props.origin_u), finite(props.origin_v)});
         }
@@ -687,9 +695,14 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
   const bool with_normals = !vertex_normal.empty();
   const std::size_t triangle_corners = 3 * (corner_vertex.size() - 2 * (polygon_offset.size() - 1));
   if (triangle_corners > max_index_count) throw input_error(path, "too large: more than 2^31 face corners");
-  mesh.face_nodes.reserve(triangle_corners);
-  if (with_uv) mesh.corner_uv.reserve(2 * triangle_corners);
-  if (with_normals) mesh.corner_normal.reserve(3 * triangle_corners);
+  // The UV of the file's corner c, of polygon p: the face's texcoord where it has them, else its
+  // vertex's, else 0.
+  static const float no_uv[2] = {0.0f, 0.0f};
+  const auto uv_of = [&](std::size_t p, std::size_t c) -> const float* {
+    if (face_uv && polygon_has_texcoord[p]) return &corner_texcoord[2 * c];
+    if (!vertex_uv.empty()) return &vertex_uv[2 * static_cast<std::size_t>(corner_vertex[c])];
+    return no_uv;
+  };
   const std::int64_t polygons = static_cast<std::int64_t>(polygon_offset.size() - 1);
   if (corner_vertex.size() == 3 * static_cast<std::size_t>(polygons)) {
     // Triangles only (each polygon has 3 corners or more, and they add up to 3 each): corner c of
@@ -702,11 +715,9 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
       for (std::size_t c = 3 * static_cast<std::size_t>(p); c < 3 * static_cast<std::size_t>(p) + 3; ++c) {
         const std::size_t v = static_cast<std::size_t>(corner_vertex[c]);
         if (with_uv) {
-          const float* uv = face_uv && polygon_has_texcoord[static_cast<std::size_t>(p)] ? &corner_texcoord[2 * c]
-                            : !vertex_uv.empty()                                          ? &vertex_uv[2 * v]
-                                                                                          : nullptr;
-          mesh.corner_uv[2 * c] = uv ? uv[0] : 0.0f;
-          mesh.corner_uv[2 * c + 1] = uv ? uv[1] : 0.0f;
+          const float* uv = uv_of(static_cast<std::size_t>(p), c);
+          mesh.corner_uv[2 * c] = uv[0];
+          mesh.corner_uv[2 * c + 1] = uv[1];
         }
         if (with_normals)
           for (int a = 0; a < 3; ++a) mesh.corner_normal[3 * c + a] = vertex_normal[3 * v + a];
@@ -714,6 +725,9 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
     }
     return out;
   }
+  mesh.face_nodes.reserve(triangle_corners);
+  if (with_uv) mesh.corner_uv.reserve(2 * triangle_corners);
+  if (with_normals) mesh.corner_normal.reserve(3 * triangle_corners);
   std::vector<float> polygon_pos;
   std::vector<index_t> triangle;
   for (std::size_t p = 0; p + 1 < polygon_offset.size(); ++p) {
@@ -733,13 +747,8 @@ FileMesh read_ply_file(const std::string& path, const std::string& bytes, const 
       const std::size_t v = static_cast<std::size_t>(corner_vertex[c]);
       mesh.face_nodes.push_back(corner_vertex[c]);
       if (with_uv) {
-        if (face_uv && polygon_has_texcoord[p]) {
-          mesh.corner_uv.insert(mesh.corner_uv.end(), {corner_texcoord[2 * c], corner_texcoord[2 * c + 1]});
-        } else if (!vertex_uv.empty()) {
-          mesh.corner_uv.insert(mesh.corner_uv.end(), {vertex_uv[2 * v], vertex_uv[2 * v + 1]});
-        } else {
-          mesh.corner_uv.insert(mesh.corner_uv.end(), {0.0f, 0.0f});
-        }
+        const float* uv = uv_of(p, c);
+        mesh.corner_uv.insert(mesh.corner_uv.end(), uv, uv + 2);
       }
       if (with_normals)
         mesh.corner_normal.insert(mesh.corner_normal.end(), &vertex_normal[3 * v], &vertex_normal[3 * v + 3]);

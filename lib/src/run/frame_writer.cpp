@@ -35,7 +35,6 @@ struct FrameWriter::Pool {
   const bool stages_files;
   std::size_t max_in_flight = 0;
   int openmp_threads = 1;  // P: omp_get_max_threads() where the writer was made
-  int encode_threads = 1;  // the team of each thread when all are busy: max(1, P / threads)
   std::vector<std::thread> threads;
 
   std::mutex mutex;
@@ -55,7 +54,6 @@ struct FrameWriter::Pool {
     max_in_flight = options.max_in_flight > 0 ? static_cast<std::size_t>(options.max_in_flight)
                                               : 2 * static_cast<std::size_t>(count);
     openmp_threads = omp_get_max_threads();
-    encode_threads = std::max(1, openmp_threads / count);
     threads.reserve(static_cast<std::size_t>(count));
     try {
       for (int i = 0; i < count; ++i) threads.emplace_back([this] { work(); });
@@ -204,7 +202,7 @@ void FrameWriter::finish() {
 
 int FrameWriter::threads() const { return static_cast<int>(pool_->threads.size()); }
 
-int FrameWriter::encode_threads() const { return pool_->encode_threads; }
+int FrameWriter::encode_threads() const { return std::max(1, pool_->openmp_threads / threads()); }
 
 std::size_t FrameWriter::max_in_flight() const { return pool_->max_in_flight; }
 
