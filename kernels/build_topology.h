@@ -273,4 +273,178 @@ struct flag_boundary_nodes {
   }
 };
 
+
+// Patching the topology after a cut (device_topology.h `patch_device_topology`) instead of building
+// it again: the same arrays as a build, but each node whose faces the cut left alone keeps its
+// node→faces run and its edges, copied with the faces renumbered, and only the others are counted
+// and written as a build would. The new faces are numbered through the cut's scan, so an old face
+// f that stays one face becomes face face_offset[f] (ascending in f: runs stay sorted).
+
+/// Marks old face f touched when the cut splits it or gives it another node, and marks touched
+/// every node of it, old or new (a node's face set changes only through touched faces). Several
+/// threads may store the same 1 into a node's flag, nothing else.
+struct mark_cut_faces {
+  const index_t* old_face_nodes;
+  const index_t* face_nodes;
+  const index_t* face_offset;  ///< [old face count + 1] first new face of each old face
+  std::uint8_t* face_touched;
+  std::uint8_t* node_touched;
+  TEAR_HD void operator()(index_t f) const {
+    const index_t g = face_offset[f], count = face_offset[f + 1] - g;
+    bool touched = count != 1;
+    for (int k = 0; k < 3 && !touched; ++k) touched = face_nodes[3 * g + k] != old_face_nodes[3 * f + k];
+    face_touched[f] = touched ? 1 : 0;
+    if (!touched) return;
+    for (int k = 0; k < 3; ++k) node_touched[old_face_nodes[3 * f + k]] = 1;
+    for (index_t c = 3 * g; c < 3 * (g + count); ++c) node_touched[face_nodes[c]] = 1;
+  }
+};
+
+/// Node n's flag before the marks: nodes the cut made are touched, old ones not yet.
+struct clear_node_marks {
+  index_t old_node_count;
+  std::uint8_t* node_touched;
+  TEAR_HD void operator()(index_t n) const { node_touched[n] = n >= old_node_count ? 1 : 0; }
+};
+
+/// The old arrays a patch reads, and the map of old faces to new.
+struct OldTopology {
+  index_t node_count;
+  const index_t* node_face_offset;
+  const index_t* node_faces;
+  const index_t* node_edge_offset;
+  const index_t* edge_nodes;
+  const index_t* edge_faces;
+  const index_t* edge_face_count;
+  const std::uint8_t* edge_boundary;
+  const std::uint8_t* node_boundary;
+  const index_t* face_offset;  ///< [old face count + 1] first new face of each old face
+  const std::uint8_t* face_touched;
+  const std::uint8_t* node_touched;
+  TEAR_HD bool kept(index_t n) const { return n < node_count && !node_touched[n]; }
+  TEAR_HD index_t new_face(index_t f) const { return f < 0 ? f : face_offset[f]; }
+};
+
+/// Node n's corner count in the new faces, from its old run: all of it when n is kept, its untouched
+/// faces when n is touched (`add_touched_corners` adds the touched faces' new corners). Run over
+/// one index more than the nodes, like `count_node_edges`.
+struct count_patched_corners {
+  OldTopology old;
+  index_t node_count;
+  index_t* tally;
+  TEAR_HD void operator()(index_t n) const {
+    index_t count = 0;
+    if (n < old.node_count) {
+      const index_t begin = old.node_face_offset[n], end = old.node_face_offset[n + 1];
+      if (!old.node_touched[n])
+        count = end - begin;
+      else
+        for (index_t i = begin; i < end; ++i) count += old.face_touched[old.node_faces[i]] ? 0 : 1;
+    }
+    tally[n] = n < node_count ? count : 0;
+  }
+};
+
+/// Adds the corners of the new faces of touched old face f to their nodes' counts.
+struct add_touched_corners {
+  const index_t* face_nodes;
+  const index_t* face_offset;
+  const std::uint8_t* face_touched;
+  index_t* tally;
+  TEAR_HD void operator()(index_t f) const {
+    if (!face_touched[f]) return;
+    for (index_t c = 3 * face_offset[f]; c < 3 * face_offset[f + 1]; ++c) atomic_fetch_add(&tally[face_nodes[c]], 1);
+  }
+};
+
+/// Node n's run: its untouched old faces renumbered, in order; leaves in cursor[n] where the
+/// touched faces' corners go (`fill_touched_corners`).
+struct fill_patched_runs {
+  OldTopology old;
+  const index_t* node_face_offset;
+  index_t* node_faces;
+  index_t* cursor;
+  TEAR_HD void operator()(index_t n) const {
+    index_t at = node_face_offset[n];
+    if (n < old.node_count) {
+      const bool kept = !old.node_touched[n];
+      for (index_t i = old.node_face_offset[n]; i < old.node_face_offset[n + 1]; ++i) {
+        const index_t f = old.node_faces[i];
+        if (kept || !old.face_touched[f]) node_faces[at++] = old.face_offset[f];
+      }
+    }
+    cursor[n] = at;
+  }
+};
+
+/// Puts the new faces of touched old face f into their nodes' runs (order by timing; sorted after).
+struct fill_touched_corners {
+  const index_t* face_nodes;
+  const index_t* face_offset;
+  const std::uint8_t* face_touched;
+  index_t* cursor;
+  index_t* node_faces;
+  TEAR_HD void operator()(index_t f) const {
+    if (!face_touched[f]) return;
+    for (index_t c = 3 * face_offset[f]; c < 3 * face_offset[f + 1]; ++c)
+      node_faces[atomic_fetch_add(&cursor[face_nodes[c]], 1)] = c / 3;
+  }
+};
+
+/// Sorts the runs of the touched nodes (a kept node's run is in order already).
+struct sort_touched_runs {
+  sort_runs sort;
+  const std::uint8_t* node_touched;
+  TEAR_HD void operator()(index_t n) const {
+    if (node_touched[n]) sort(n);
+  }
+};
+
+/// Node n's number of edges: a kept node's old count, a touched node's counted as a build does.
+struct count_patched_edges {
+  OldTopology old;
+  count_node_edges count;
+  TEAR_HD void operator()(index_t n) const {
+    if (n < count.node_count && old.kept(n))
+      count.node_edge_count[n] = old.node_edge_offset[n + 1] - old.node_edge_offset[n];
+    else
+      count(n);
+  }
+};
+
+/// Node n's edges: a kept node's old ones with their faces renumbered (same ends, counts and
+/// flags), a touched node's written as a build writes them.
+struct write_patched_edges {
+  OldTopology old;
+  write_node_edges write;
+  TEAR_HD void operator()(index_t n) const {
+    if (!old.kept(n)) {
+      write(n);
+      return;
+    }
+    index_t e = write.node_edge_offset[n];
+    for (index_t o = old.node_edge_offset[n]; o < old.node_edge_offset[n + 1]; ++o, ++e) {
+      write.edge_nodes[2 * e] = old.edge_nodes[2 * o];
+      write.edge_nodes[2 * e + 1] = old.edge_nodes[2 * o + 1];
+      write.edge_faces[2 * e] = old.new_face(old.edge_faces[2 * o]);
+      write.edge_faces[2 * e + 1] = old.new_face(old.edge_faces[2 * o + 1]);
+      write.edge_face_count[e] = old.edge_face_count[o];
+      write.edge_boundary[e] = old.edge_boundary[o];
+    }
+  }
+};
+
+/// Node n's boundary flag: a kept node's old flag (its edges and their faces are as they were),
+/// a touched node's found as a build finds it.
+struct flag_patched_boundary {
+  OldTopology old;
+  flag_boundary_nodes flag;
+  TEAR_HD void operator()(index_t n) const {
+    if (old.kept(n))
+      flag.node_boundary[n] = old.node_boundary[n];
+    else
+      flag(n);
+  }
+};
+
 }  // namespace tear::kernels

@@ -81,26 +81,20 @@ struct count_face_copies_and_triangles {
 
 /// What a cut did, for its statistics: edges with a cut point, edges with a cut line along them,
 /// faces with a face point. One reduction, so one read-back.
-struct CutSummary {
-  index_t edge_points = 0, cut_edges = 0, face_points = 0;
-  TEAR_HD CutSummary operator+(const CutSummary& o) const {
-    return {edge_points + o.edge_points, cut_edges + o.cut_edges, face_points + o.face_points};
-  }
-};
-
+/// The cut's summary: edges with a cut point, edges with a cut line along them, faces with a face
+/// point, added into `counts` [3] (zeroed first). Integer sums, so the same in any order.
 struct summarize_cut {
   const std::uint8_t* edge_point;
   const std::uint8_t* edge_cut;
   const index_t* face_new_offset;  ///< [face_count + 1]: a face's new nodes are the difference
   index_t edge_count, face_count;
-  TEAR_HD CutSummary operator()(index_t i) const {
-    CutSummary s;
+  index_t* counts;
+  TEAR_HD void operator()(index_t i) const {
     if (i < edge_count) {
-      s.edge_points = edge_point[i] == edge_point_inside ? 1 : 0;
-      s.cut_edges = edge_cut[i] ? 1 : 0;
+      if (edge_point[i] == edge_point_inside) atomic_fetch_add(&counts[0], 1);
+      if (edge_cut[i]) atomic_fetch_add(&counts[1], 1);
     }
-    if (i < face_count) s.face_points = face_new_offset[i + 1] != face_new_offset[i] ? 1 : 0;
-    return s;
+    if (i < face_count && face_new_offset[i + 1] != face_new_offset[i]) atomic_fetch_add(&counts[2], 1);
   }
 };
 

@@ -23,6 +23,9 @@ void check_parity(const Mesh& mesh, const std::vector<std::vector<CutLine>>& fra
     const CutStats gs = gpu.cut(frames[i], {snap}), cs = cpu.cut(frames[i], {snap});
     CHECK(gs.nodes_after == cs.nodes_after);
     CHECK(gs.faces_after == cs.faces_after);
+    CHECK(gs.edge_points == cs.edge_points);
+    CHECK(gs.cut_edges == cs.cut_edges);
+    CHECK(gs.face_points == cs.face_points);
     const Mesh g = gpu.mesh(), c = cpu.mesh();
     REQUIRE(g.face_nodes == c.face_nodes);
     REQUIRE(g.node_pos.size() == c.node_pos.size());

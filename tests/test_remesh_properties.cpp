@@ -10,6 +10,7 @@
 
 #include "catch.h"
 #include "random_meshes.h"
+#include "reference_topology.h"
 #include "remesh_checks.h"
 #include "tear/cloth.h"
 #include "tear/cut_script.h"
@@ -347,6 +348,8 @@ TEST_CASE("remesh properties: random cuts on random cloths keep every invariant"
       const CutStats stats = cloth.cut(frames[frame], CutOptions{snap});
       tear::test::check_valid_after_cut(cloth, area, tear::test::test_device());
       const Mesh after = cloth.mesh();
+      // The cut patches the topology where it changed faces: the same arrays as a build.
+      CHECK(tear::test::topology_difference(cloth.topology(), build_topology(after, tear::test::test_device())) == "");
       if (stats.nodes_after != stats.nodes_before || stats.faces_after != stats.faces_before)
         check_new_nodes_on_cuts(before, topo_before, rest_before, cloth, frames[frame], snap);
       else
@@ -401,14 +404,21 @@ TEST_CASE("remesh properties: a straight line across a sheet makes two pieces an
     }
 
     Cloth cloth(mesh, tear::test::test_device());
-    cloth.cut({line}, CutOptions{snap});
+    const CutStats stats = cloth.cut({line}, CutOptions{snap});
     const MeshInfo info = tear::test::check_valid_after_cut(cloth, size * size, tear::test::test_device());
     CHECK(info.components == 2);
     CHECK(info.boundary_loops == 2);
     const CutProvenance prov = cloth.provenance();
     std::vector<index_t> copies(std::size_t(mesh.node_count()), 0);
-    for (index_t n = 0; n < cloth.node_count(); ++n)
+    index_t inside_edges = 0;
+    for (index_t n = 0; n < cloth.node_count(); ++n) {
       if (prov.node_source[3 * std::size_t(n) + 1] < 0) ++copies[prov.node_source[3 * std::size_t(n)]];
+      if (prov.node_source[3 * std::size_t(n) + 1] >= 0 && prov.node_source[3 * std::size_t(n) + 2] < 0) ++inside_edges;
+    }
+    // The cut's summary: one line crosses itself nowhere, and each point it leaves inside an edge
+    // becomes a node on either side.
+    CHECK(stats.face_points == 0);
+    CHECK(2 * stats.edge_points == inside_edges);
     const auto on_path = std::count_if(copies.begin(), copies.end(), [](index_t k) { return k >= 2; });
     const double path =
         0.5 * (tear::test::boundary_length(cloth.mesh(), cloth.topology()) - tear::test::boundary_length(mesh, topo));

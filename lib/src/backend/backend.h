@@ -16,6 +16,7 @@
 #include <map>
 #include <mutex>
 #include <new>
+#include <stdexcept>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -154,6 +155,14 @@ struct Traits<Omp> {
   static void* allocate_staging(std::size_t n) { return std::malloc(n); }
   static void free_staging(void* p, std::size_t) { std::free(p); }
   static void copy_to_staging(void* host, const void* from, std::size_t n) { std::memcpy(host, from, n); }
+  static void copy_from_staging(void* to, const void* host, std::size_t n) { std::memcpy(to, host, n); }
+  /// A point in the backend's queue that the host can wait for (`Upload`): on the CPU, passed when
+  /// recorded.
+  class QueuePoint {
+   public:
+    void record() {}
+    void wait() {}
+  };
   /// A copy of backend memory to the host that runs beside the backend's later work (`start`),
   /// waited for by `wait` on any one thread. On the CPU backend memory is host memory: nothing is
   /// copied, and `wait` returns the memory itself, which must stay as it is until then.
@@ -327,6 +336,42 @@ struct Traits<Cuda> {
       throw std::bad_alloc();
     }
   }
+  static void copy_from_staging(void* to, const void* host, std::size_t n) {
+    const cudaError_t status = cudaMemcpyAsync(to, host, n, cudaMemcpyHostToDevice, 0);
+    if (status != cudaSuccess) {
+      cudaGetLastError();
+      throw std::bad_alloc();
+    }
+  }
+  /// A point in the default stream (an event without timing) that the host can wait for.
+  class QueuePoint {
+   public:
+    QueuePoint() = default;
+    QueuePoint(const QueuePoint&) = delete;
+    QueuePoint& operator=(const QueuePoint&) = delete;
+    ~QueuePoint() {
+      if (event_) cudaEventDestroy(event_);
+    }
+    void record() {
+      if (!event_ && cudaEventCreateWithFlags(&event_, cudaEventDisableTiming) != cudaSuccess) {
+        cudaGetLastError();
+        event_ = nullptr;
+      }
+      recorded_ = event_ && cudaEventRecord(event_, 0) == cudaSuccess;
+      if (!recorded_) cudaGetLastError();
+    }
+    /// Waits until the device has passed the point (the whole device where it could not be recorded).
+    void wait() {
+      if (recorded_)
+        cudaEventSynchronize(event_);
+      else
+        cudaStreamSynchronize(0);
+    }
+
+   private:
+    cudaEvent_t event_ = nullptr;
+    bool recorded_ = false;
+  };
   /// The stream of `HostCopy`: one of its own, that does not wait for the default stream's later
   /// work (non-blocking), so a frame's copy runs while the next frame computes. The default stream
   /// where one cannot be made.
@@ -559,6 +604,61 @@ class ReadBack {
   char* data_ = nullptr;
   std::size_t capacity_ = 0, used_ = 0;
   bool pending_ = false;  // copies queued since the last wait
+};
+
+/// Small host arrays sent to the backend together, without waiting: each `send` copies the values
+/// into page-locked staging and queues their copy to the backend before the stages queued after it.
+/// A batch reuses the staging once the backend has read the batch before (`begin` waits for that
+/// point, long passed by then). A cut sends its paths this way: no wait, where a copy from
+/// pageable memory waits for the device.
+template <class System>
+class Upload {
+ public:
+  Upload() = default;
+  Upload(const Upload&) = delete;
+  Upload& operator=(const Upload&) = delete;
+  ~Upload() {
+    sent_.wait();
+    if (data_) Traits<System>::free_staging(data_, capacity_);
+  }
+
+  /// Starts a batch of `bytes` at most (the sum of the batch's sends, each aligned).
+  void begin(std::size_t bytes) {
+    sent_.wait();
+    used_ = 0;
+    if (bytes <= capacity_) return;
+    if (data_) Traits<System>::free_staging(data_, capacity_);
+    data_ = nullptr;
+    capacity_ = 0;
+    const std::size_t capacity = std::max<std::size_t>(bytes, 4096);
+    data_ = static_cast<char*>(Traits<System>::allocate_staging(capacity));
+    if (!data_) throw std::bad_alloc();
+    capacity_ = capacity;
+  }
+
+  /// The staging a send of `count` values of T takes in a batch.
+  template <class T>
+  static std::size_t bytes_for(std::size_t count) {
+    return (count * sizeof(T) + alignof(std::max_align_t) - 1) / alignof(std::max_align_t) * alignof(std::max_align_t);
+  }
+
+  /// `to` resized to `from`'s values, copied there behind the stages queued so far.
+  template <class Vector, class T>
+  void send(Vector& to, const std::vector<T>& from) {
+    resize_for_overwrite(to, from.size());
+    const std::size_t bytes = from.size() * sizeof(T);
+    if (bytes == 0) return;
+    if (used_ + bytes_for<T>(from.size()) > capacity_) throw std::logic_error("Upload: a send beyond its batch");
+    std::memcpy(data_ + used_, from.data(), bytes);
+    Traits<System>::copy_from_staging(thrust::raw_pointer_cast(to.data()), data_ + used_, bytes);
+    used_ += bytes_for<T>(from.size());
+    sent_.record();
+  }
+
+ private:
+  char* data_ = nullptr;
+  std::size_t capacity_ = 0, used_ = 0;
+  typename Traits<System>::QueuePoint sent_;  // after the last copy sent
 };
 
 template <class T, class Vector>

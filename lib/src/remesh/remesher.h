@@ -28,7 +28,6 @@
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/scan.h>
 #include <thrust/sort.h>
-#include <thrust/transform_reduce.h>
 
 #include "backend/backend.h"
 #include "carry_attributes.h"
@@ -145,18 +144,19 @@ class Remesher {
   void check_written(const CutOptions& options, const vec<T>& v, std::size_t size, T unwritten, const char* stage);
 
   // §2.2–2.4 stages.
-  void count_and_scan(const DeviceCloth<System>& cloth);
-  /// Edges with a cut point, edges with a cut line along them, faces with a face point: one
-  /// reduction, so one read-back.
-  void summarize(const DeviceCloth<System>& cloth, CutStats& stats);
+  /// With `stats`, also its counts of edges with a cut point, edges with a cut line along them and
+  /// faces with a face point, read back with the totals.
+  void count_and_scan(const DeviceCloth<System>& cloth, CutStats* stats);
   void write_new_nodes(DeviceCloth<System>& cloth, const CutOptions& options);
   void write_new_faces(DeviceCloth<System>& cloth, const CutOptions& options);
   void map_nodes(const DeviceCloth<System>& cloth, const CutOptions& options);
   void carry_attributes(DeviceCloth<System>& cloth);
 
   TopologyScratch<System> topo_scratch_;
+  DeviceTopology<System> next_topo_;  // a cut's patched topology, swapped in (then the one before it)
   TemporaryAllocator<System> alloc_;  // Thrust's sort and scan buffers, reused cut after cut
   ReadBack<System> read_back_;        // a cut's totals (and a tear's crack lengths), read in one wait
+  Upload<System> upload_;             // a cut's paths, sent without waiting
   std::size_t crack_lengths_at_ = 0;  // where in `read_back_` the last tear's lengths are
   index_t crack_count_ = 0;           //   and how many
   vec<kernels::SplitCase> table_;
@@ -181,6 +181,7 @@ class Remesher {
   // §2.2, §2.3 counts and offsets: the nodes' extra copies, then edge points', then face points',
   // in one array; new faces per face.
   vec<index_t> point_new_offset_, face_new_face_offset_;
+  vec<index_t> summary_;  // [3] edges with a cut point, cut edges, faces with a face point
   index_t new_node_count_ = 0, new_face_count_ = 0;
 
   // The mesh being written (provenance of the last cut included), swapped in at the end.
@@ -212,9 +213,11 @@ void Remesher<System>::upload_cuts(const std::vector<CutLine>& cuts) {
     }
     if (p.point_count >= 2) paths.push_back(p);
   }
-  assign_from_host(cut_paths_, paths);
-  assign_from_host(cut_point_x_, xs);
-  assign_from_host(cut_point_y_, ys);
+  upload_.begin(Upload<System>::template bytes_for<kernels::CutPath>(paths.size()) +
+                2 * Upload<System>::template bytes_for<double>(xs.size()));
+  upload_.send(cut_paths_, paths);
+  upload_.send(cut_point_x_, xs);
+  upload_.send(cut_point_y_, ys);
 }
 
 template <class System>
@@ -392,8 +395,7 @@ void Remesher<System>::resolve_cut_info(const DeviceCloth<System>& cloth, const 
 template <class System>
 bool Remesher<System>::apply_cut_info(DeviceCloth<System>& cloth, const CutOptions& options, CutStats& stats,
                                       StageClock& clock, bool summary) {
-  count_and_scan(cloth);  // §2.2 and §2.3 counts and scans
-  if (summary) summarize(cloth, stats);
+  count_and_scan(cloth, summary ? &stats : nullptr);  // §2.2 and §2.3 counts and scans
   clock.mark<System>(CutStage::counts_and_scans);
   const index_t n_count = cloth.node_count(), f_count = cloth.face_count();
   if (new_node_count_ == n_count && new_face_count_ == f_count) return false;  // the cuts split nothing
@@ -404,8 +406,11 @@ bool Remesher<System>::apply_cut_info(DeviceCloth<System>& cloth, const CutOptio
   map_nodes(cloth, options);  // §2.4 node mapping: every point hands out its copies
   clock.mark<System>(CutStage::node_mapping);
   carry_attributes(cloth);  // state, pins and origins onto the new nodes and faces; swapped in
-  // §2.4 adjacency rebuilt from the new faces.
-  build_device_topology(cloth.topo, cloth.face_nodes, new_node_count_, topo_scratch_, alloc_);
+  // §2.4 adjacency of the new faces: the old one patched where the cut changed faces (the old face
+  // nodes are in `new_face_nodes_` since the swap).
+  patch_device_topology(next_topo_, cloth.topo, new_face_nodes_, face_new_face_offset_, cloth.face_nodes,
+                        new_node_count_, topo_scratch_, alloc_);
+  cloth.topo.swap(next_topo_);
   clock.mark<System>(CutStage::adjacency);
   stats.nodes_after = new_node_count_;
   stats.faces_after = new_face_count_;
@@ -413,7 +418,7 @@ bool Remesher<System>::apply_cut_info(DeviceCloth<System>& cloth, const CutOptio
 }
 
 template <class System>
-void Remesher<System>::count_and_scan(const DeviceCloth<System>& cloth) {
+void Remesher<System>::count_and_scan(const DeviceCloth<System>& cloth, CutStats* stats) {
   using namespace kernels;
   const auto policy = Traits<System>::policy(alloc_);
   const index_t n_count = cloth.node_count(), f_count = cloth.face_count(), e_count = cloth.topo.edge_count;
@@ -439,27 +444,29 @@ void Remesher<System>::count_and_scan(const DeviceCloth<System>& cloth) {
   thrust::exclusive_scan(policy, point_new_offset_.begin(), point_new_offset_.end(), point_new_offset_.begin());
   thrust::exclusive_scan(policy, face_new_face_offset_.begin(), face_new_face_offset_.end(), face_new_face_offset_.begin());
 
-  // Both totals in one wait.
+  // The summary's counts (integer sums: the same whatever the order), queued with the totals.
+  std::size_t summary_at = 0;
+  if (stats) {
+    resize_for_overwrite(summary_, 3);
+    thrust::fill(policy, summary_.begin(), summary_.end(), 0);
+    for_each_index(std::max(e_count, f_count),
+                   summarize_cut{raw<std::uint8_t>(info_.edge_point), raw<std::uint8_t>(info_.edge_cut),
+                                 raw<index_t>(point_new_offset_) + n_count + e_count, e_count, f_count,
+                                 raw<index_t>(summary_)});
+    summary_at = read_back_.queue(raw<index_t>(summary_), 3);
+  }
+  // The totals in one wait.
   const std::size_t new_points_at = read_back_.queue(raw<index_t>(point_new_offset_) + point_count, 1);
   const std::size_t new_faces_at = read_back_.queue(raw<index_t>(face_new_face_offset_) + f_count, 1);
   read_back_.wait();
   new_node_count_ = n_count + *read_back_.template at<index_t>(new_points_at);
   new_face_count_ = *read_back_.template at<index_t>(new_faces_at);
-}
-
-template <class System>
-void Remesher<System>::summarize(const DeviceCloth<System>& cloth, CutStats& stats) {
-  using namespace kernels;
-  const index_t n_count = cloth.node_count(), f_count = cloth.face_count(), e_count = cloth.topo.edge_count;
-  const thrust::counting_iterator<index_t> zero(0);
-  const CutSummary summary = thrust::transform_reduce(
-      Traits<System>::policy(alloc_), zero, zero + std::max(e_count, f_count),
-      summarize_cut{raw<std::uint8_t>(info_.edge_point), raw<std::uint8_t>(info_.edge_cut),
-                    raw<index_t>(point_new_offset_) + n_count + e_count, e_count, f_count},
-      CutSummary{}, thrust::plus<CutSummary>());
-  stats.edge_points = summary.edge_points;
-  stats.cut_edges = summary.cut_edges;
-  stats.face_points = summary.face_points;
+  if (stats) {
+    const index_t* counts = read_back_.template at<index_t>(summary_at);
+    stats->edge_points = counts[0];
+    stats->cut_edges = counts[1];
+    stats->face_points = counts[2];
+  }
 }
 
 template <class System>

@@ -33,7 +33,7 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
   for_each_index<System>(node_count + 1,
                    count_node_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
                                     raw<index_t>(topo.node_faces), raw<index_t>(node_tally), node_count});
-  auto& node_edge_offset = scratch.node_edge_offset;
+  auto& node_edge_offset = topo.node_edge_offset;
   resize_for_overwrite(node_edge_offset, nodes_and_end);
   thrust::exclusive_scan(policy, node_tally.begin(), node_tally.end(), node_edge_offset.begin());
   const index_t edge_count = node_edge_offset[node_count];
@@ -59,6 +59,90 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
 }
 
 template <class System>
+void patch_device_topology(DeviceTopology<System>& topo, const DeviceTopology<System>& old,
+                           const vector<System, index_t>& old_face_nodes, const vector<System, index_t>& face_offset,
+                           const vector<System, index_t>& face_nodes, index_t node_count,
+                           TopologyScratch<System>& scratch, TemporaryAllocator<System>& alloc) {
+  using namespace kernels;
+  const auto policy = Traits<System>::policy(alloc);
+  const index_t face_count = static_cast<index_t>(face_nodes.size() / 3);
+  const index_t half_count = 3 * face_count;
+  const index_t old_faces = old.face_count;
+  topo.node_count = node_count;
+  topo.face_count = face_count;
+  const std::size_t nodes_and_end = static_cast<std::size_t>(node_count) + 1;
+
+  // The faces the cut split or gave other nodes, and their nodes.
+  resize_for_overwrite(scratch.face_touched, old_faces);
+  resize_for_overwrite(scratch.node_touched, node_count);
+  for_each_index<System>(node_count, clear_node_marks{old.node_count, raw<std::uint8_t>(scratch.node_touched)});
+  for_each_index<System>(old_faces, mark_cut_faces{raw<index_t>(old_face_nodes), raw<index_t>(face_nodes),
+                                                   raw<index_t>(face_offset), raw<std::uint8_t>(scratch.face_touched),
+                                                   raw<std::uint8_t>(scratch.node_touched)});
+  const OldTopology was{old.node_count,
+                        raw<index_t>(old.node_face_offset),
+                        raw<index_t>(old.node_faces),
+                        raw<index_t>(old.node_edge_offset),
+                        raw<index_t>(old.edge_nodes),
+                        raw<index_t>(old.edge_faces),
+                        raw<index_t>(old.edge_face_count),
+                        raw<std::uint8_t>(old.edge_boundary),
+                        raw<std::uint8_t>(old.node_boundary),
+                        raw<index_t>(face_offset),
+                        raw<std::uint8_t>(scratch.face_touched),
+                        raw<std::uint8_t>(scratch.node_touched)};
+
+  // Node→faces: counted, scanned, kept runs copied, the touched faces' corners added, touched runs
+  // sorted.
+  auto& tally = scratch.node_tally;
+  resize_for_overwrite(tally, nodes_and_end);
+  for_each_index<System>(node_count + 1, count_patched_corners{was, node_count, raw<index_t>(tally)});
+  for_each_index<System>(old_faces, add_touched_corners{raw<index_t>(face_nodes), raw<index_t>(face_offset),
+                                                        raw<std::uint8_t>(scratch.face_touched), raw<index_t>(tally)});
+  resize_for_overwrite(topo.node_face_offset, nodes_and_end);
+  thrust::exclusive_scan(policy, tally.begin(), tally.end(), topo.node_face_offset.begin());
+  resize_for_overwrite(topo.node_faces, half_count);
+  for_each_index<System>(node_count, fill_patched_runs{was, raw<index_t>(topo.node_face_offset),
+                                                       raw<index_t>(topo.node_faces), raw<index_t>(tally)});
+  for_each_index<System>(old_faces, fill_touched_corners{raw<index_t>(face_nodes), raw<index_t>(face_offset),
+                                                         raw<std::uint8_t>(scratch.face_touched), raw<index_t>(tally),
+                                                         raw<index_t>(topo.node_faces)});
+  for_each_index<System>(node_count,
+                         sort_touched_runs{sort_runs{raw<index_t>(topo.node_face_offset), raw<index_t>(topo.node_faces)},
+                                           raw<std::uint8_t>(scratch.node_touched)});
+
+  // Edges: kept nodes' counts and edges copied, touched nodes' counted and written.
+  const count_node_edges count_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
+                                     raw<index_t>(topo.node_faces), raw<index_t>(tally), node_count};
+  for_each_index<System>(node_count + 1, count_patched_edges{was, count_edges});
+  auto& node_edge_offset = topo.node_edge_offset;
+  resize_for_overwrite(node_edge_offset, nodes_and_end);
+  thrust::exclusive_scan(policy, tally.begin(), tally.end(), node_edge_offset.begin());
+  const index_t edge_count = node_edge_offset[node_count];
+  topo.edge_count = edge_count;
+  resize_for_overwrite(topo.edge_nodes, 2 * static_cast<std::size_t>(edge_count));
+  resize_for_overwrite(topo.edge_faces, 2 * static_cast<std::size_t>(edge_count));
+  resize_for_overwrite(topo.edge_face_count, edge_count);
+  resize_for_overwrite(topo.edge_boundary, edge_count);
+  for_each_index<System>(
+      node_count, write_patched_edges{was, write_node_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
+                                                            raw<index_t>(topo.node_faces), raw<index_t>(node_edge_offset),
+                                                            raw<index_t>(topo.edge_nodes), raw<index_t>(topo.edge_faces),
+                                                            raw<index_t>(topo.edge_face_count),
+                                                            raw<std::uint8_t>(topo.edge_boundary)}});
+  resize_for_overwrite(topo.face_edges, half_count);
+  for_each_index<System>(half_count, write_face_edges{raw<index_t>(face_nodes), raw<index_t>(node_edge_offset),
+                                                      raw<index_t>(topo.edge_nodes), raw<index_t>(topo.face_edges)});
+  resize_for_overwrite(topo.node_boundary, node_count);
+  for_each_index<System>(
+      node_count, flag_patched_boundary{was, flag_boundary_nodes{raw<index_t>(face_nodes), raw<index_t>(topo.face_edges),
+                                                                 raw<index_t>(topo.node_face_offset),
+                                                                 raw<index_t>(topo.node_faces),
+                                                                 raw<std::uint8_t>(topo.edge_boundary),
+                                                                 raw<std::uint8_t>(topo.node_boundary)}});
+}
+
+template <class System>
 Topology build_topology_on(const Mesh& mesh) {
   vector<System, index_t> face_nodes(mesh.face_nodes.begin(), mesh.face_nodes.end());
   DeviceTopology<System> topo;
@@ -71,6 +155,9 @@ Topology build_topology_on(const Mesh& mesh) {
 #define TEAR_INSTANTIATE(S)                                                                                          \
   template void build_device_topology<S>(DeviceTopology<S>&, const vector<S, index_t>&, index_t, TopologyScratch<S>&, \
                                          TemporaryAllocator<S>&);                                                   \
+  template void patch_device_topology<S>(DeviceTopology<S>&, const DeviceTopology<S>&, const vector<S, index_t>&,   \
+                                         const vector<S, index_t>&, const vector<S, index_t>&, index_t,             \
+                                         TopologyScratch<S>&, TemporaryAllocator<S>&);                              \
   template Topology build_topology_on<S>(const Mesh&);
 TEAR_FOR_EACH_SYSTEM(TEAR_INSTANTIATE)
 #undef TEAR_INSTANTIATE

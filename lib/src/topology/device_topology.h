@@ -1,6 +1,8 @@
 // tear: the topology arrays as they live on a backend, and their copy to the host.
 #pragma once
 
+#include <utility>
+
 #include <thrust/copy.h>
 #include <thrust/fill.h>
 #include <thrust/for_each.h>
@@ -20,6 +22,22 @@ struct DeviceTopology {
   index_t node_count = 0, face_count = 0, edge_count = 0;
   vector<System, index_t> edge_nodes, edge_faces, edge_face_count, face_edges, node_face_offset, node_faces;
   vector<System, std::uint8_t> edge_boundary, node_boundary;
+  vector<System, index_t> node_edge_offset;  ///< [node_count + 1] first edge whose lower node is n (edges run by it)
+
+  void swap(DeviceTopology& o) {
+    std::swap(node_count, o.node_count);
+    std::swap(face_count, o.face_count);
+    std::swap(edge_count, o.edge_count);
+    edge_nodes.swap(o.edge_nodes);
+    edge_faces.swap(o.edge_faces);
+    edge_face_count.swap(o.edge_face_count);
+    face_edges.swap(o.face_edges);
+    node_face_offset.swap(o.node_face_offset);
+    node_faces.swap(o.node_faces);
+    edge_boundary.swap(o.edge_boundary);
+    node_boundary.swap(o.node_boundary);
+    node_edge_offset.swap(o.node_edge_offset);
+  }
 };
 
 template <class System>
@@ -63,14 +81,27 @@ void build_csr_by_counting(const Policy& policy, Items items, index_t item_count
 /// Working arrays of `build_device_topology`, kept between builds so they only grow.
 template <class System>
 struct TopologyScratch {
-  vector<System, index_t> node_tally;        // [node_count + 1] corner counts, then cursors, then edge counts
-  vector<System, index_t> node_edge_offset;  // [node_count + 1] first edge whose lower node is n
+  vector<System, index_t> node_tally;  // [node_count + 1] corner counts, then cursors, then edge counts
+  // A patch's marks: the old faces a cut split or renumbered, and the nodes of those faces.
+  vector<System, std::uint8_t> face_touched, node_touched;
 };
 
 /// Builds the topology of `face_nodes` (already on the backend) into `topo`, using `scratch` and
 /// `alloc` for working memory.
 template <class System>
 void build_device_topology(DeviceTopology<System>& topo, const vector<System, index_t>& face_nodes, index_t node_count,
+                           TopologyScratch<System>& scratch, TemporaryAllocator<System>& alloc);
+
+/// The topology of the mesh a cut made, from `old` (the topology of `old_face_nodes`), into `topo`:
+/// the arrays `build_device_topology` would build, but only the nodes of the faces the cut split or
+/// gave other nodes are counted and written as a build does; every other node's faces, edges and
+/// flags are the old ones copied, with faces renumbered. `face_offset` [old face count + 1] is the
+/// first new face of each old face (the cut's scan of its new faces); `face_nodes` the new faces,
+/// over `node_count` nodes, the old ones first.
+template <class System>
+void patch_device_topology(DeviceTopology<System>& topo, const DeviceTopology<System>& old,
+                           const vector<System, index_t>& old_face_nodes, const vector<System, index_t>& face_offset,
+                           const vector<System, index_t>& face_nodes, index_t node_count,
                            TopologyScratch<System>& scratch, TemporaryAllocator<System>& alloc);
 
 template <class System>
