@@ -391,24 +391,19 @@ struct fill_touched_corners {
   }
 };
 
-/// Sorts the runs of the touched nodes (a kept node's run is in order already).
-struct sort_touched_runs {
-  sort_runs sort;
-  const std::uint8_t* node_touched;
-  TEAR_HD void operator()(index_t n) const {
-    if (node_touched[n]) sort(n);
-  }
-};
-
-/// Node n's number of edges: a kept node's old count, a touched node's counted as a build does.
+/// Node n's number of edges: a kept node's old count; a touched node's run sorted (a kept node's is
+/// in order already), then its edges counted as a build counts them.
 struct count_patched_edges {
   OldTopology old;
   count_node_edges count;
+  sort_runs sort;
   TEAR_HD void operator()(index_t n) const {
-    if (n < count.node_count && old.kept(n))
+    if (n < count.node_count && old.kept(n)) {
       count.node_edge_count[n] = old.node_edge_offset[n + 1] - old.node_edge_offset[n];
-    else
-      count(n);
+      return;
+    }
+    if (n < count.node_count) sort(n);
+    count(n);
   }
 };
 

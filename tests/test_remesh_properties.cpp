@@ -360,6 +360,23 @@ TEST_CASE("remesh properties: random cuts on random cloths keep every invariant"
   }
 }
 
+TEST_CASE("remesh properties: cuts across large sheets patch the topology a build would make", "[remesh][property]") {
+  // Sheets whose cuts sum their counts in one tile, in several and on the whole device (CUDA).
+  for (const index_t faces : {20000, 80000}) {
+    SheetOptions o;
+    o.face_count = faces;
+    Cloth cloth(make_sheet(o), tear::test::test_device());
+    INFO(faces << " faces");
+    for (int frame = 0; frame < 2; ++frame) {
+      const double y = 0.3 + 0.4 * frame;
+      const CutStats stats = cloth.cut({tear::test::cut_rest_xy({{-0.1, y}, {0.5, y + 0.05}, {1.1, y - 0.05}})});
+      CHECK(stats.faces_after > stats.faces_before);
+      CHECK(tear::test::topology_difference(cloth.topology(), build_topology(cloth.mesh(), tear::test::test_device())) ==
+            "");
+    }
+  }
+}
+
 TEST_CASE("remesh properties: a straight line across a sheet makes two pieces and twice its length of border",
           "[remesh][property]") {
   // The tear is a path of chords, one per face crossed, from border to border; both sides of it

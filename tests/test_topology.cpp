@@ -6,6 +6,7 @@
 #include "random_meshes.h"
 #include "reference_topology.h"
 #include "tear/device.h"
+#include "tear/make_sheet.h"
 #include "tear/topology.h"
 #include "tear/validate_mesh.h"
 #include "test_support.h"
@@ -195,6 +196,20 @@ TEST_CASE("topology: matches the serial reference on random meshes", "[topology]
                  << " faces)");
     const tear::Topology t = tear::build_topology(mesh, tear::test::test_device());
     REQUIRE(tear::test::topology_difference(t, tear::test::reference_topology(mesh)) == "");
+  }
+}
+
+TEST_CASE("topology: sheets whose scans take one tile or several or the whole device match the reference",
+          "[topology]") {
+  // The counts of a build are summed by one block on CUDA up to 32,768 values, tile by tile
+  // (8,192 a tile), and by a device-wide scan beyond: node counts of about 150, 10,000 and 40,000.
+  for (const index_t faces : {300, 20000, 80000}) {
+    tear::SheetOptions o;
+    o.face_count = faces;
+    const tear::Mesh mesh = tear::make_sheet(o);
+    INFO(faces << " faces, " << mesh.node_count() << " nodes");
+    const tear::Topology t = tear::build_topology(mesh, tear::test::test_device());
+    CHECK(tear::test::topology_difference(t, tear::test::reference_topology(mesh)) == "");
   }
 }
 

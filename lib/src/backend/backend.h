@@ -26,6 +26,7 @@
 #include <thrust/fill.h>
 #include <thrust/for_each.h>
 #include <thrust/iterator/counting_iterator.h>
+#include <thrust/scan.h>
 #include <thrust/system/omp/execution_policy.h>
 #include <thrust/system/omp/vector.h>
 
@@ -35,6 +36,7 @@
 #include "tear/error.h"
 
 #if TEAR_WITH_CUDA && defined(__CUDACC__)
+#include <cub/block/block_scan.cuh>
 #include <thrust/system/cuda/execution_policy.h>
 #include <thrust/system/cuda/vector.h>
 #define TEAR_CUDA_SYSTEM 1
@@ -504,6 +506,57 @@ void for_each_index(index_t count, const F& f) {
 #endif
   thrust::for_each(Traits<System>::policy(), thrust::counting_iterator<index_t>(0),
                    thrust::counting_iterator<index_t>(count), f);
+}
+
+#if TEAR_CUDA_SYSTEM
+namespace detail {
+/// An exclusive sum of `count` integers by one block, tile after tile, each tile's sum carried into
+/// the next (`in` and `out` may be the same: a tile is read whole before it is written).
+template <int Threads, int Items>
+__global__ void one_block_exclusive_sum(const index_t* in, index_t* out, index_t count) {
+  using Scan = cub::BlockScan<index_t, Threads>;
+  __shared__ typename Scan::TempStorage temp;
+  __shared__ index_t carry;
+  if (threadIdx.x == 0) carry = 0;
+  __syncthreads();
+  for (index_t base = 0; base < count; base += Threads * Items) {
+    const index_t first = base + static_cast<index_t>(threadIdx.x) * Items;
+    index_t v[Items];
+    for (int j = 0; j < Items; ++j) v[j] = first + j < count ? in[first + j] : 0;
+    index_t tile_sum;
+    Scan(temp).ExclusiveSum(v, v, tile_sum);
+    const index_t before = carry;
+    for (int j = 0; j < Items; ++j)
+      if (first + j < count) out[first + j] = before + v[j];
+    __syncthreads();  // every thread has read `carry` and is done with `temp`
+    if (threadIdx.x == 0) carry = before + tile_sum;
+    __syncthreads();
+  }
+}
+}  // namespace detail
+#endif
+
+/// out[i] = in[0] + ... + in[i - 1] for i in [0, count), on `System`'s backend; `in` and `out`
+/// may be the same. On CUDA, up to `one_block_limit` values are summed by one block in one launch:
+/// a device-wide scan costs two launches and its dispatch on the host, which a cut of a small mesh
+/// pays at every scan.
+template <class System, class Policy>
+void exclusive_sum(const Policy& policy, const index_t* in, index_t* out, index_t count) {
+  if (count <= 0) return;
+#if TEAR_CUDA_SYSTEM
+  if constexpr (std::is_same<System, Cuda>::value) {
+    constexpr int threads = 1024, items = 8;
+    constexpr index_t one_block_limit = 4 * threads * items;
+    if (count <= one_block_limit) {
+      detail::one_block_exclusive_sum<threads, items><<<1, threads>>>(in, out, count);
+      const cudaError_t status = cudaGetLastError();
+      if (status != cudaSuccess)
+        throw runtime_error(std::string("a kernel could not be launched: ") + cudaGetErrorString(status));
+      return;
+    }
+  }
+#endif
+  thrust::exclusive_scan(policy, in, in + count, out);
 }
 
 /// Resizes `v` to `n` elements for its stage to write them all: new elements are left unwritten

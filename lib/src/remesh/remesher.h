@@ -441,8 +441,9 @@ void Remesher<System>::count_and_scan(const DeviceCloth<System>& cloth, CutStats
                                         count_face_copies_and_triangles{count_face_copies{sectors, face_new_count},
                                                                         count_faces, f_count},
                                         n_count, e_count));
-  thrust::exclusive_scan(policy, point_new_offset_.begin(), point_new_offset_.end(), point_new_offset_.begin());
-  thrust::exclusive_scan(policy, face_new_face_offset_.begin(), face_new_face_offset_.end(), face_new_face_offset_.begin());
+  exclusive_sum<System>(policy, raw<index_t>(point_new_offset_), raw<index_t>(point_new_offset_),
+                        static_cast<index_t>(point_count + 1));
+  exclusive_sum<System>(policy, raw<index_t>(face_new_face_offset_), raw<index_t>(face_new_face_offset_), f_count + 1);
 
   // The summary's counts (integer sums: the same whatever the order), queued with the totals.
   std::size_t summary_at = 0;

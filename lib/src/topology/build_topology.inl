@@ -35,7 +35,7 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
                                     raw<index_t>(topo.node_faces), raw<index_t>(node_tally), node_count});
   auto& node_edge_offset = topo.node_edge_offset;
   resize_for_overwrite(node_edge_offset, nodes_and_end);
-  thrust::exclusive_scan(policy, node_tally.begin(), node_tally.end(), node_edge_offset.begin());
+  exclusive_sum<System>(policy, raw<index_t>(node_tally), raw<index_t>(node_edge_offset), node_count + 1);
   const index_t edge_count = node_edge_offset[node_count];
   topo.edge_count = edge_count;
   resize_for_overwrite(topo.edge_nodes, 2 * static_cast<std::size_t>(edge_count));
@@ -92,32 +92,31 @@ void patch_device_topology(DeviceTopology<System>& topo, const DeviceTopology<Sy
                         raw<std::uint8_t>(scratch.face_touched),
                         raw<std::uint8_t>(scratch.node_touched)};
 
-  // Node→faces: counted, scanned, kept runs copied, the touched faces' corners added, touched runs
-  // sorted.
+  // Node→faces: counted, scanned, kept runs copied, the touched faces' corners added.
   auto& tally = scratch.node_tally;
   resize_for_overwrite(tally, nodes_and_end);
   for_each_index<System>(node_count + 1, count_patched_corners{was, node_count, raw<index_t>(tally)});
   for_each_index<System>(old_faces, add_touched_corners{raw<index_t>(face_nodes), raw<index_t>(face_offset),
                                                         raw<std::uint8_t>(scratch.face_touched), raw<index_t>(tally)});
   resize_for_overwrite(topo.node_face_offset, nodes_and_end);
-  thrust::exclusive_scan(policy, tally.begin(), tally.end(), topo.node_face_offset.begin());
+  exclusive_sum<System>(policy, raw<index_t>(tally), raw<index_t>(topo.node_face_offset), node_count + 1);
   resize_for_overwrite(topo.node_faces, half_count);
   for_each_index<System>(node_count, fill_patched_runs{was, raw<index_t>(topo.node_face_offset),
                                                        raw<index_t>(topo.node_faces), raw<index_t>(tally)});
   for_each_index<System>(old_faces, fill_touched_corners{raw<index_t>(face_nodes), raw<index_t>(face_offset),
                                                          raw<std::uint8_t>(scratch.face_touched), raw<index_t>(tally),
                                                          raw<index_t>(topo.node_faces)});
-  for_each_index<System>(node_count,
-                         sort_touched_runs{sort_runs{raw<index_t>(topo.node_face_offset), raw<index_t>(topo.node_faces)},
-                                           raw<std::uint8_t>(scratch.node_touched)});
 
-  // Edges: kept nodes' counts and edges copied, touched nodes' counted and written.
+  // Edges: kept nodes' counts and edges copied, touched nodes' runs sorted and their edges counted
+  // and written.
   const count_node_edges count_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
                                      raw<index_t>(topo.node_faces), raw<index_t>(tally), node_count};
-  for_each_index<System>(node_count + 1, count_patched_edges{was, count_edges});
+  for_each_index<System>(node_count + 1, count_patched_edges{was, count_edges,
+                                                             sort_runs{raw<index_t>(topo.node_face_offset),
+                                                                       raw<index_t>(topo.node_faces)}});
   auto& node_edge_offset = topo.node_edge_offset;
   resize_for_overwrite(node_edge_offset, nodes_and_end);
-  thrust::exclusive_scan(policy, tally.begin(), tally.end(), node_edge_offset.begin());
+  exclusive_sum<System>(policy, raw<index_t>(tally), raw<index_t>(node_edge_offset), node_count + 1);
   const index_t edge_count = node_edge_offset[node_count];
   topo.edge_count = edge_count;
   resize_for_overwrite(topo.edge_nodes, 2 * static_cast<std::size_t>(edge_count));

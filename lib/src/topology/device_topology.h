@@ -70,7 +70,7 @@ void build_csr_by_counting(const Policy& policy, Items items, index_t item_count
   thrust::fill(policy, tally.begin(), tally.end(), 0);
   for_each_index<System>(item_count, kernels::count_keys<Items>{items, raw<index_t>(tally)});
   resize_for_overwrite(offset, ends);
-  thrust::exclusive_scan(policy, tally.begin(), tally.end(), offset.begin());
+  exclusive_sum<System>(policy, raw<index_t>(tally), raw<index_t>(offset), static_cast<index_t>(ends));
   thrust::copy(policy, offset.begin(), offset.end(), tally.begin());  // the cursors
   resize_for_overwrite(values, value_count >= 0 ? value_count : static_cast<index_t>(offset[key_count]));
   for_each_index<System>(item_count,
