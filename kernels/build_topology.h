@@ -91,35 +91,16 @@ struct sort_runs {
 
 /// Calls visit(hi, f) for each half-edge (n, hi) of node n's faces whose lower end is n, faces
 /// ascending (a face repeating n visited once), local edges in order; stops when visit returns false.
-/// The faces are taken `batch` at a time, their numbers and then their nodes loaded before any is
-/// used, so the loads of a batch can overlap.
 template <class Visit>
 TEAR_HD inline void for_each_lower_half_edge(const index_t* face_nodes, const index_t* node_face_offset,
                                              const index_t* node_faces, index_t n, Visit visit) {
-  constexpr int batch = 8;
-  const index_t begin = node_face_offset[n], end = node_face_offset[n + 1];
-  index_t previous = -1;  // the face before, to visit a face repeating n once
-  for (index_t at = begin; at < end; at += batch) {
-    const int size = end - at < batch ? static_cast<int>(end - at) : batch;
-    index_t face[batch], corner[3 * batch];
-#if defined(__CUDA_ARCH__)
-#pragma unroll
-#endif
-    for (int j = 0; j < batch; ++j) face[j] = j < size ? node_faces[at + j] : 0;
-#if defined(__CUDA_ARCH__)
-#pragma unroll
-#endif
-    for (int j = 0; j < batch; ++j)
-      for (int k = 0; k < 3; ++k) corner[3 * j + k] = j < size ? face_nodes[3 * face[j] + k] : 0;
-    for (int j = 0; j < size; ++j) {
-      const index_t f = face[j];
-      if (f == previous) continue;
-      previous = f;
-      for (int k = 0; k < 3; ++k) {
-        const index_t p = corner[3 * j + (k + 1) % 3], q = corner[3 * j + (k + 2) % 3];
-        const index_t lo = p < q ? p : q, hi = p < q ? q : p;
-        if (lo == n && !visit(hi, f)) return;
-      }
+  for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) {
+    const index_t f = node_faces[i];
+    if (i > node_face_offset[n] && node_faces[i - 1] == f) continue;  // a face repeating n, seen
+    for (int k = 0; k < 3; ++k) {
+      index_t lo, hi;
+      half_edge_nodes(face_nodes, f, k, lo, hi);
+      if (lo == n && !visit(hi, f)) return;
     }
   }
 }
@@ -282,28 +263,11 @@ struct flag_boundary_nodes {
   const std::uint8_t* edge_boundary;
   std::uint8_t* node_boundary;
   TEAR_HD void operator()(index_t n) const {
-    // Faces a batch at a time, each batch's loads issued before any is used (as
-    // `for_each_lower_half_edge` does).
-    constexpr int batch = 8;
-    const index_t begin = node_face_offset[n], end = node_face_offset[n + 1];
     std::uint8_t flag = 0;
-    for (index_t at = begin; at < end && !flag; at += batch) {
-      const int size = end - at < batch ? static_cast<int>(end - at) : batch;
-      index_t face[batch], corner[3 * batch], edge[3 * batch];
-#if defined(__CUDA_ARCH__)
-#pragma unroll
-#endif
-      for (int j = 0; j < batch; ++j) face[j] = j < size ? node_faces[at + j] : 0;
-#if defined(__CUDA_ARCH__)
-#pragma unroll
-#endif
-      for (int j = 0; j < batch; ++j)
-        for (int k = 0; k < 3; ++k) {
-          corner[3 * j + k] = j < size ? face_nodes[3 * face[j] + k] : n;
-          edge[3 * j + k] = j < size ? face_edges[3 * face[j] + k] : 0;
-        }
-      for (int c = 0; c < 3 * size && !flag; ++c)
-        if (corner[c] != n && edge_boundary[edge[c]]) flag = 1;
+    for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1] && !flag; ++i) {
+      const index_t f = node_faces[i];
+      for (int k = 0; k < 3; ++k)
+        if (face_nodes[3 * f + k] != n && edge_boundary[face_edges[3 * f + k]]) flag = 1;
     }
     node_boundary[n] = flag;
   }
@@ -454,7 +418,7 @@ struct write_patched_edges {
       return;
     }
     // A batch of edges at a time, all its loads issued before its stores (a store may alias a later
-    // load, so one edge after the other would wait for each edge's loads in turn): measured 10 to 17 %
+    // load, so one edge after the other would wait for each edge's loads in turn): measured 9 to 17 %
     // off the patch at 1M to 4M faces on an H100 (docs/BENCHMARKS.md).
     constexpr int batch = 8;
     const index_t begin = old.node_edge_offset[n], end = old.node_edge_offset[n + 1];

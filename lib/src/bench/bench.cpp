@@ -79,6 +79,7 @@ std::vector<BenchRow> run_remesh_bench(const BenchOptions& options, Device devic
       reset_memory_peak(device);
       const std::size_t before = memory_in_use(device);
       Cloth cloth(mesh, device);  // a fresh cloth each time: cutting a torn cloth again is a no-op
+      synchronize(device);        // the cloth's own setup, still queued on the device, is not the cut's
       CutOptions cut_options;
       const bool timed = run >= options.warmup, staged = timed && (run - options.warmup) % 2 == 1;
       cut_options.time_stages = staged;
