@@ -671,13 +671,14 @@ class Upload {
   Upload(const Upload&) = delete;
   Upload& operator=(const Upload&) = delete;
   ~Upload() {
-    sent_.wait();
+    if (pending_) sent_.wait();
     if (data_) Traits<System>::free_staging(data_, capacity_);
   }
 
   /// Starts a batch of `bytes` at most (the sum of the batch's sends, each aligned).
   void begin(std::size_t bytes) {
-    sent_.wait();
+    if (pending_) sent_.wait();
+    pending_ = false;
     used_ = 0;
     if (bytes <= capacity_) return;
     if (data_) Traits<System>::free_staging(data_, capacity_);
@@ -706,12 +707,14 @@ class Upload {
     Traits<System>::copy_from_staging(thrust::raw_pointer_cast(to.data()), data_ + used_, bytes);
     used_ += bytes_for<T>(from.size());
     sent_.record();
+    pending_ = true;
   }
 
  private:
   char* data_ = nullptr;
   std::size_t capacity_ = 0, used_ = 0;
   typename Traits<System>::QueuePoint sent_;  // after the last copy sent
+  bool pending_ = false;                      // copies sent since the last wait
 };
 
 template <class T, class Vector>
