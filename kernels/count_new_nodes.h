@@ -79,8 +79,6 @@ struct count_face_copies_and_triangles {
   }
 };
 
-/// What a cut did, for its statistics: edges with a cut point, edges with a cut line along them,
-/// faces with a face point. One reduction, so one read-back.
 /// The cut's summary: edges with a cut point, edges with a cut line along them, faces with a face
 /// point, added into `counts` [3] (zeroed first). Integer sums, so the same in any order.
 struct summarize_cut {

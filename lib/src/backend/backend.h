@@ -359,20 +359,23 @@ struct Traits<Cuda> {
         cudaGetLastError();
         event_ = nullptr;
       }
-      recorded_ = event_ && cudaEventRecord(event_, 0) == cudaSuccess;
-      if (!recorded_) cudaGetLastError();
+      state_ = event_ && cudaEventRecord(event_, 0) == cudaSuccess ? State::recorded : State::unrecorded;
+      if (state_ == State::unrecorded) cudaGetLastError();
     }
-    /// Waits until the device has passed the point (the whole device where it could not be recorded).
+    /// Waits until the device has passed the last point recorded (the whole default stream where it
+    /// could not be recorded); returns at once when none was recorded since the last wait.
     void wait() {
-      if (recorded_)
+      if (state_ == State::recorded)
         cudaEventSynchronize(event_);
-      else
+      else if (state_ == State::unrecorded)
         cudaStreamSynchronize(0);
+      state_ = State::none;
     }
 
    private:
+    enum class State { none, recorded, unrecorded };
     cudaEvent_t event_ = nullptr;
-    bool recorded_ = false;
+    State state_ = State::none;
   };
   /// The stream of `HostCopy`: one of its own, that does not wait for the default stream's later
   /// work (non-blocking), so a frame's copy runs while the next frame computes. The default stream
@@ -671,14 +674,13 @@ class Upload {
   Upload(const Upload&) = delete;
   Upload& operator=(const Upload&) = delete;
   ~Upload() {
-    if (pending_) sent_.wait();
+    sent_.wait();
     if (data_) Traits<System>::free_staging(data_, capacity_);
   }
 
   /// Starts a batch of `bytes` at most (the sum of the batch's sends, each aligned).
   void begin(std::size_t bytes) {
-    if (pending_) sent_.wait();
-    pending_ = false;
+    sent_.wait();
     used_ = 0;
     if (bytes <= capacity_) return;
     if (data_) Traits<System>::free_staging(data_, capacity_);
@@ -707,14 +709,12 @@ class Upload {
     Traits<System>::copy_from_staging(thrust::raw_pointer_cast(to.data()), data_ + used_, bytes);
     used_ += bytes_for<T>(from.size());
     sent_.record();
-    pending_ = true;
   }
 
  private:
   char* data_ = nullptr;
   std::size_t capacity_ = 0, used_ = 0;
   typename Traits<System>::QueuePoint sent_;  // after the last copy sent
-  bool pending_ = false;                      // copies sent since the last wait
 };
 
 template <class T, class Vector>

@@ -12,6 +12,31 @@
 
 namespace tear::backend {
 
+namespace {
+
+/// The edge count, from the scan of the per-node counts in `topo.node_edge_offset`, and the edge
+/// arrays sized for it (the one read-back of a build or a patch).
+template <class System>
+void size_edges(DeviceTopology<System>& topo) {
+  const index_t edge_count = topo.node_edge_offset[topo.node_count];
+  topo.edge_count = edge_count;
+  resize_for_overwrite(topo.edge_nodes, 2 * static_cast<std::size_t>(edge_count));
+  resize_for_overwrite(topo.edge_faces, 2 * static_cast<std::size_t>(edge_count));
+  resize_for_overwrite(topo.edge_face_count, edge_count);
+  resize_for_overwrite(topo.edge_boundary, edge_count);
+}
+
+/// face_edges of every half-edge, once the edges are written.
+template <class System>
+void write_all_face_edges(DeviceTopology<System>& topo, const vector<System, index_t>& face_nodes) {
+  const index_t half_count = 3 * topo.face_count;
+  resize_for_overwrite(topo.face_edges, half_count);
+  for_each_index<System>(half_count, kernels::write_face_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_edge_offset),
+                                                               raw<index_t>(topo.edge_nodes), raw<index_t>(topo.face_edges)});
+}
+
+}  // namespace
+
 template <class System>
 void build_device_topology(DeviceTopology<System>& topo, const vector<System, index_t>& face_nodes, index_t node_count,
                            TopologyScratch<System>& scratch, TemporaryAllocator<System>& alloc) {
@@ -36,21 +61,13 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
   auto& node_edge_offset = topo.node_edge_offset;
   resize_for_overwrite(node_edge_offset, nodes_and_end);
   exclusive_sum<System>(policy, raw<index_t>(node_tally), raw<index_t>(node_edge_offset), node_count + 1);
-  const index_t edge_count = node_edge_offset[node_count];
-  topo.edge_count = edge_count;
-  resize_for_overwrite(topo.edge_nodes, 2 * static_cast<std::size_t>(edge_count));
-  resize_for_overwrite(topo.edge_faces, 2 * static_cast<std::size_t>(edge_count));
-  resize_for_overwrite(topo.edge_face_count, edge_count);
-  resize_for_overwrite(topo.edge_boundary, edge_count);
+  size_edges(topo);
   for_each_index<System>(node_count,
                    write_node_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
                                     raw<index_t>(topo.node_faces), raw<index_t>(node_edge_offset),
                                     raw<index_t>(topo.edge_nodes), raw<index_t>(topo.edge_faces),
                                     raw<index_t>(topo.edge_face_count), raw<std::uint8_t>(topo.edge_boundary)});
-  resize_for_overwrite(topo.face_edges, half_count);
-  for_each_index<System>(half_count,
-                   write_face_edges{raw<index_t>(face_nodes), raw<index_t>(node_edge_offset),
-                                    raw<index_t>(topo.edge_nodes), raw<index_t>(topo.face_edges)});
+  write_all_face_edges(topo, face_nodes);
 
   resize_for_overwrite(topo.node_boundary, node_count);
   for_each_index<System>(node_count,
@@ -117,21 +134,14 @@ void patch_device_topology(DeviceTopology<System>& topo, const DeviceTopology<Sy
   auto& node_edge_offset = topo.node_edge_offset;
   resize_for_overwrite(node_edge_offset, nodes_and_end);
   exclusive_sum<System>(policy, raw<index_t>(tally), raw<index_t>(node_edge_offset), node_count + 1);
-  const index_t edge_count = node_edge_offset[node_count];
-  topo.edge_count = edge_count;
-  resize_for_overwrite(topo.edge_nodes, 2 * static_cast<std::size_t>(edge_count));
-  resize_for_overwrite(topo.edge_faces, 2 * static_cast<std::size_t>(edge_count));
-  resize_for_overwrite(topo.edge_face_count, edge_count);
-  resize_for_overwrite(topo.edge_boundary, edge_count);
+  size_edges(topo);
   for_each_index<System>(
       node_count, write_patched_edges{was, write_node_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
                                                             raw<index_t>(topo.node_faces), raw<index_t>(node_edge_offset),
                                                             raw<index_t>(topo.edge_nodes), raw<index_t>(topo.edge_faces),
                                                             raw<index_t>(topo.edge_face_count),
                                                             raw<std::uint8_t>(topo.edge_boundary)}});
-  resize_for_overwrite(topo.face_edges, half_count);
-  for_each_index<System>(half_count, write_face_edges{raw<index_t>(face_nodes), raw<index_t>(node_edge_offset),
-                                                      raw<index_t>(topo.edge_nodes), raw<index_t>(topo.face_edges)});
+  write_all_face_edges(topo, face_nodes);
   resize_for_overwrite(topo.node_boundary, node_count);
   for_each_index<System>(
       node_count, flag_patched_boundary{was, flag_boundary_nodes{raw<index_t>(face_nodes), raw<index_t>(topo.face_edges),
