@@ -60,10 +60,58 @@ struct FaceCorners {
   TEAR_HD index_t value(index_t c) const { return c / 3; }
 };
 
-/// Sorts run n of a CSR ascending (insertion sort: runs are a node's valence long). For node→faces,
-/// a face that repeats the node appears once per corner, adjacent after the sort. A run of up to
-/// `local_capacity` values is loaded at once (independent loads), sorted in the thread's own memory
-/// and stored: sorting in place, each step would wait for a load of what the step before stored.
+/// Sorts a[i] and a[j] into order.
+template <class T>
+TEAR_HD inline void compare_exchange(T& a, T& b) {
+  const T lo = a < b ? a : b;
+  b = a < b ? b : a;
+  a = lo;
+}
+
+// Batcher's odd-even merge sort as a network over a fixed number of values: every index is a
+// constant once the templates are expanded, so on the GPU the values stay in registers and no
+// thread waits on its own memory. 19 comparators for 8 values, 63 for 16, 191 for 32.
+
+/// Merges the sorted halves of v[Lo, Lo + N), taking every R-th value (N a power of two).
+template <int Lo, int N, int R, class T>
+TEAR_HD inline void odd_even_merge(T* v) {
+  constexpr int step = 2 * R;
+  if constexpr (step < N) {
+    odd_even_merge<Lo, N, step>(v);
+    odd_even_merge<Lo + R, N, step>(v);
+    TEAR_UNROLL
+    for (int i = Lo + R; i + R < Lo + N; i += step) compare_exchange(v[i], v[i + R]);
+  } else {
+    compare_exchange(v[Lo], v[Lo + R]);
+  }
+}
+
+/// Sorts v[Lo, Lo + N) ascending (N a power of two).
+template <int Lo, int N, class T>
+TEAR_HD inline void odd_even_merge_sort(T* v) {
+  if constexpr (N > 1) {
+    odd_even_merge_sort<Lo, N / 2>(v);
+    odd_even_merge_sort<Lo + N / 2, N / 2>(v);
+    odd_even_merge<Lo, N, 1>(v);
+  }
+}
+
+/// Sorts v[0, N) ascending by the network (N a power of two).
+template <int N, class T>
+TEAR_HD inline void sort_network(T* v) {
+  static_assert(N > 0 && (N & (N - 1)) == 0, "a power of two");
+  odd_even_merge_sort<0, N>(v);
+}
+
+/// The runs of faces held in registers: most nodes of a cloth have at most 8 faces (the nodes a
+/// cut makes about half as many), and a split gives a corner node one or two more.
+inline constexpr int small_run = 8, medium_run = 16;
+
+/// Sorts run n of a CSR ascending. For node→faces, a face that repeats the node appears once per
+/// corner, adjacent after the sort. A run of up to `medium_run` values is sorted by a network in
+/// registers; a longer one of up to `local_capacity` is loaded at once (independent loads), sorted
+/// in the thread's own memory and stored: sorting in place, each step would wait for a load of what
+/// the step before stored.
 struct sort_runs {
   static constexpr int local_capacity = 32;
   const index_t* offset;
@@ -76,8 +124,20 @@ struct sort_runs {
       a[j] = v;
     }
   }
+  template <int N>
+  TEAR_HD void sort_in_registers(index_t begin, index_t size) const {
+    index_t run[N];
+    TEAR_UNROLL
+    for (int i = 0; i < N; ++i) run[i] = i < size ? values[begin + i] : INT32_MAX;
+    sort_network<N>(run);
+    TEAR_UNROLL
+    for (int i = 0; i < N; ++i)
+      if (i < size) values[begin + i] = run[i];
+  }
   TEAR_HD void operator()(index_t n) const {
     const index_t begin = offset[n], size = offset[n + 1] - begin;
+    if (size <= small_run) return sort_in_registers<small_run>(begin, size);
+    if (size <= medium_run) return sort_in_registers<medium_run>(begin, size);
     if (size > local_capacity) {
       insertion_sort(values + begin, size);
       return;
@@ -168,11 +228,67 @@ TEAR_HD inline NodeEdge edge_to(const index_t* face_nodes, const index_t* node_f
   return e;
 }
 
-/// Calls visit(edge) for each edge whose lower node is n, higher ends ascending: from the one-pass
-/// list, or edge by edge when the node has more edges than the list holds.
+/// Calls visit(edge) for each edge whose lower node is n, higher ends ascending, when n has at
+/// most `Faces` faces and none of them repeats a node (returns false, visiting nothing, when not).
+/// Each face holds n once, so it gives the two half-edges from n to its other nodes: at most
+/// 2 * Faces keys (higher end, face), all loaded before any is used and sorted by a network in
+/// registers. Equal ends are then one edge, its faces ascending: what `NodeEdgeList` gathers by
+/// insertion.
+template <int Faces, class Visit>
+TEAR_HD inline bool for_each_node_edge_in_registers(const index_t* face_nodes, const index_t* node_faces,
+                                                    index_t begin, index_t size, index_t n, Visit& visit) {
+  constexpr std::uint64_t none = ~std::uint64_t(0);
+  std::uint64_t key[2 * Faces];
+  bool simple = true;
+  TEAR_UNROLL
+  for (int i = 0; i < Faces; ++i) {
+    key[2 * i] = key[2 * i + 1] = none;
+    if (i < size) {
+      const index_t f = node_faces[begin + i];
+      const index_t a = face_nodes[3 * f], b = face_nodes[3 * f + 1], c = face_nodes[3 * f + 2];
+      simple = simple && a != b && b != c && a != c;
+      const index_t u = a == n ? b : a, v = a == n ? c : b == n ? c : b;  // the other two nodes
+      const std::uint64_t face = static_cast<std::uint32_t>(f);
+      if (u > n) key[2 * i] = (static_cast<std::uint64_t>(u) << 32) | face;
+      if (v > n) key[2 * i + 1] = (static_cast<std::uint64_t>(v) << 32) | face;
+    }
+  }
+  if (!simple) return false;
+  sort_network<2 * Faces>(key);
+  NodeEdge edge;
+  TEAR_UNROLL
+  for (int j = 0; j < 2 * Faces; ++j) {
+    if (key[j] == none) continue;
+    const index_t end = static_cast<index_t>(key[j] >> 32);
+    if (end != edge.end) {
+      if (edge.end >= 0) visit(edge);
+      edge = NodeEdge{};
+      edge.end = end;
+    }
+    edge.add_face(static_cast<index_t>(key[j] & 0xffffffffu));
+  }
+  if (edge.end >= 0) visit(edge);
+  return true;
+}
+
+/// The above for a node of up to `medium_run` faces; false when n has more or one repeats a node.
+template <class Visit>
+TEAR_HD inline bool for_each_small_node_edge(const index_t* face_nodes, const index_t* node_face_offset,
+                                             const index_t* node_faces, index_t n, Visit visit) {
+  const index_t begin = node_face_offset[n], size = node_face_offset[n + 1] - begin;
+  if (size <= small_run) return for_each_node_edge_in_registers<small_run>(face_nodes, node_faces, begin, size, n, visit);
+  if (size <= medium_run)
+    return for_each_node_edge_in_registers<medium_run>(face_nodes, node_faces, begin, size, n, visit);
+  return false;
+}
+
+/// Calls visit(edge) for each edge whose lower node is n, higher ends ascending: from registers
+/// (above), from the one-pass list, or edge by edge when the node has more edges than the list
+/// holds.
 template <class Visit>
 TEAR_HD inline void for_each_node_edge(const index_t* face_nodes, const index_t* node_face_offset,
                                        const index_t* node_faces, index_t n, Visit visit) {
+  if (for_each_small_node_edge(face_nodes, node_face_offset, node_faces, n, visit)) return;
   NodeEdgeList list;
   list.gather(face_nodes, node_face_offset, node_faces, n);
   if (!list.overflow) {

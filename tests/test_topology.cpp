@@ -1,7 +1,9 @@
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <vector>
 
+#include "build_topology.h"
 #include "catch.h"
 #include "random_meshes.h"
 #include "reference_topology.h"
@@ -237,6 +239,89 @@ TEST_CASE("topology: nodes of high valence match the serial reference", "[topolo
       CHECK(tear::test::topology_difference(t, tear::test::reference_topology(mesh)) == "");
     }
   }
+}
+
+TEST_CASE("topology: the sorting networks sort every input of zeros and ones", "[topology]") {
+  // A comparator network sorts every input when it sorts every input of zeros and ones.
+  auto check = [](auto sort, int size) {
+    for (std::uint32_t bits = 0; bits < (1u << size); ++bits) {
+      std::vector<int> v(static_cast<std::size_t>(size));
+      for (int i = 0; i < size; ++i) v[static_cast<std::size_t>(i)] = (bits >> i) & 1;
+      sort(v.data());
+      INFO(size << " values, input bits " << bits);
+      REQUIRE(std::is_sorted(v.begin(), v.end()));
+    }
+  };
+  check([](int* v) { tear::kernels::sort_network<8>(v); }, 8);
+  check([](int* v) { tear::kernels::sort_network<16>(v); }, 16);
+  check([](int* v) { tear::kernels::sort_network<2>(v); }, 2);
+  // 32 values: 2^32 inputs are too many; seeded random zeros and ones, and permutations.
+  const std::uint64_t seed = tear::test::test_seed(1999);
+  INFO("seed " << seed);
+  tear::test::Random random(seed);
+  for (int trial = 0; trial < 20000; ++trial) {
+    std::vector<std::uint64_t> v(32);
+    const bool binary = trial % 2 == 0;
+    for (std::size_t i = 0; i < v.size(); ++i) v[i] = binary ? random.bits() & 1 : i;
+    if (!binary) random.shuffle(v);
+    tear::kernels::sort_network<32>(v.data());
+    INFO("trial " << trial);
+    REQUIRE(std::is_sorted(v.begin(), v.end()));
+  }
+}
+
+TEST_CASE("topology: a node's edges gathered in registers are the ones its list gathers", "[topology]") {
+  // Every node of random meshes (soups with faces repeating nodes, fins, nodes of many faces) and of
+  // fans of 3 to 20 faces: the register path (up to 8 faces, up to 16) either declines or visits
+  // exactly the edges of the general one, in order.
+  namespace k = tear::kernels;
+  std::size_t taken = 0, declined = 0;
+  auto compare = [&](const tear::Mesh& mesh) {
+    const tear::Topology t = tear::build_topology(mesh, tear::Device::cpu);
+    const index_t* fn = mesh.face_nodes.data();
+    const index_t* offset = t.node_face_offset.data();
+    const index_t* faces = t.node_faces.data();
+    using Edge = std::vector<index_t>;  // end, count, first face, second face
+    auto edge = [](const k::NodeEdge& e) { return Edge{e.end, e.count, e.face[0], e.face[1]}; };
+    for (index_t n = 0; n < mesh.node_count(); ++n) {
+      std::vector<Edge> small, general;
+      const bool took =
+          k::for_each_small_node_edge(fn, offset, faces, n, [&](const k::NodeEdge& e) { small.push_back(edge(e)); });
+      (took ? taken : declined) += 1;
+      if (!took) continue;
+      k::NodeEdgeList list;
+      list.gather(fn, offset, faces, n);
+      if (!list.overflow)
+        for (int j = 0; j < list.size; ++j) general.push_back(edge(list.edge[j]));
+      else
+        for (index_t end = k::next_edge_end(fn, offset, faces, n, -1); end >= 0;
+             end = k::next_edge_end(fn, offset, faces, n, end))
+          general.push_back(edge(k::edge_to(fn, offset, faces, n, end)));
+      INFO("node " << n << " of " << offset[n + 1] - offset[n] << " faces");
+      REQUIRE(small == general);
+    }
+  };
+  const std::uint64_t seed = tear::test::test_seed(4242);
+  for (std::uint64_t i = 0; i < 120; ++i) {
+    const auto [name, mesh] = tear::test::random_mesh(seed + i);
+    INFO("seed " << seed + i << " (" << name << ")");
+    compare(mesh);
+  }
+  for (int fan = 3; fan <= 20; ++fan)
+    for (const bool closed : {true, false})
+      for (const bool centre_first : {true, false}) {
+        std::vector<float> pos(3 * static_cast<std::size_t>(fan + 2), 0.0f);
+        const index_t n = fan + 2;
+        const auto id = [&](index_t v) { return centre_first ? v : n - 1 - v; };
+        Indices faces;
+        for (index_t i = 0; i < fan; ++i)
+          faces.insert(faces.end(), {id(0), id(1 + i), id(closed ? 1 + (i + 1) % fan : 2 + i)});
+        INFO("fan of " << fan << (closed ? ", closed" : ", open") << (centre_first ? ", centre first" : ", centre last"));
+        compare(make_mesh(pos, faces));
+      }
+  INFO(taken << " nodes gathered in registers, " << declined << " declined");
+  CHECK(taken > 1000);
+  CHECK(declined > 10);
 }
 
 TEST_CASE("topology: renumbering nodes and faces keeps the edge and boundary counts", "[topology]") {
