@@ -134,13 +134,42 @@ TEAR_HD inline void interpolate_corner(const CornerValues& a, index_t old_face, 
   }
 }
 
+/// Copies `Count` floats, all loaded before any is stored: a store may alias a later load, so
+/// value by value each load would wait for the store before it.
+template <int Count>
+TEAR_HD inline void copy_floats(const float* from, float* to) {
+  float v[Count];
+  TEAR_UNROLL
+  for (int i = 0; i < Count; ++i) v[i] = from[i];
+  TEAR_UNROLL
+  for (int i = 0; i < Count; ++i) to[i] = v[i];
+}
+
 /// A new corner at an old node of its parent face (corner `local` of it) keeps that corner's
 /// values exactly, unit values included: a face no cut touches keeps its corners bit for bit, and
 /// the corners around an old node stay as equal as they were.
 TEAR_HD inline void copy_corner(const CornerValues& a, index_t old_face, int local, index_t new_corner) {
   const float* old = a.old_value + a.comps * (3 * old_face + local);
   float* out = a.new_value + a.comps * new_corner;
-  for (int d = 0; d < a.comps; ++d) out[d] = old[d];
+  switch (a.comps) {
+    case 1: copy_floats<1>(old, out); break;
+    case 2: copy_floats<2>(old, out); break;
+    case 3: copy_floats<3>(old, out); break;
+    default: copy_floats<4>(old, out); break;
+  }
+}
+
+/// The three corners of a face the cut left whole (one new face, its corners the old ones in
+/// order), copied as one block.
+TEAR_HD inline void copy_face_corners(const CornerValues& a, index_t old_face, index_t new_face) {
+  const float* old = a.old_value + 3 * a.comps * old_face;
+  float* out = a.new_value + 3 * a.comps * new_face;
+  switch (a.comps) {
+    case 1: copy_floats<3>(old, out); break;
+    case 2: copy_floats<6>(old, out); break;
+    case 3: copy_floats<9>(old, out); break;
+    default: copy_floats<12>(old, out); break;
+  }
 }
 
 }  // namespace tear::kernels

@@ -54,6 +54,13 @@ struct write_new_faces {
       TEAR_UNROLL
       for (int a = 0; a < FaceAttributes::capacity; ++a)
         if (a < face_values.count) face_values.at[a].new_value[nf] = face_values.at[a].old_value[f];
+      if (c.tri_count == 1 && c.tri[0][0] == point_code(PointKind::node, 0) &&
+          c.tri[0][1] == point_code(PointKind::node, 1) && c.tri[0][2] == point_code(PointKind::node, 2)) {
+        TEAR_UNROLL
+        for (int a = 0; a < CornerAttributes::capacity; ++a)
+          if (a < corners.count) copy_face_corners(corners.at[a], f, nf);
+        continue;
+      }
       for (int k = 0; k < 3; ++k) {
         const std::uint8_t code = c.tri[t][k];
         if (point_kind(code) == PointKind::node) {
