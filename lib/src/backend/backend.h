@@ -345,28 +345,37 @@ struct Traits<Cuda> {
       throw std::bad_alloc();
     }
   }
+  /// A CUDA event in the default stream, made on its first record; `record` returns false (and
+  /// leaves no error behind) where it cannot be made or recorded.
+  class RecordedEvent {
+   public:
+    explicit RecordedEvent(unsigned flags) : flags_(flags) {}
+    RecordedEvent(const RecordedEvent&) = delete;
+    RecordedEvent& operator=(const RecordedEvent&) = delete;
+    ~RecordedEvent() {
+      if (event_) cudaEventDestroy(event_);
+    }
+    bool record() {
+      if (!event_ && cudaEventCreateWithFlags(&event_, flags_) != cudaSuccess) event_ = nullptr;
+      const bool recorded = event_ && cudaEventRecord(event_, 0) == cudaSuccess;
+      if (!recorded) cudaGetLastError();
+      return recorded;
+    }
+    cudaEvent_t get() const { return event_; }
+
+   private:
+    unsigned flags_;
+    cudaEvent_t event_ = nullptr;
+  };
   /// A point in the default stream (an event without timing) that the host can wait for.
   class QueuePoint {
    public:
-    QueuePoint() = default;
-    QueuePoint(const QueuePoint&) = delete;
-    QueuePoint& operator=(const QueuePoint&) = delete;
-    ~QueuePoint() {
-      if (event_) cudaEventDestroy(event_);
-    }
-    void record() {
-      if (!event_ && cudaEventCreateWithFlags(&event_, cudaEventDisableTiming) != cudaSuccess) {
-        cudaGetLastError();
-        event_ = nullptr;
-      }
-      state_ = event_ && cudaEventRecord(event_, 0) == cudaSuccess ? State::recorded : State::unrecorded;
-      if (state_ == State::unrecorded) cudaGetLastError();
-    }
+    void record() { state_ = event_.record() ? State::recorded : State::unrecorded; }
     /// Waits until the device has passed the last point recorded (the whole default stream where it
     /// could not be recorded); returns at once when none was recorded since the last wait.
     void wait() {
       if (state_ == State::recorded)
-        cudaEventSynchronize(event_);
+        cudaEventSynchronize(event_.get());
       else if (state_ == State::unrecorded)
         cudaStreamSynchronize(0);
       state_ = State::none;
@@ -374,7 +383,7 @@ struct Traits<Cuda> {
 
    private:
     enum class State { none, recorded, unrecorded };
-    cudaEvent_t event_ = nullptr;
+    RecordedEvent event_{cudaEventDisableTiming};
     State state_ = State::none;
   };
   /// The stream of `HostCopy`: one of its own, that does not wait for the default stream's later
@@ -447,23 +456,10 @@ struct Traits<Cuda> {
   /// (`elapsed_ms`, once the device has passed both) without waiting for it in between.
   class QueueMark {
    public:
-    QueueMark() = default;
-    QueueMark(const QueueMark&) = delete;
-    QueueMark& operator=(const QueueMark&) = delete;
-    ~QueueMark() {
-      if (event_) cudaEventDestroy(event_);
-    }
-    void record() {
-      if (!event_ && cudaEventCreate(&event_) != cudaSuccess) {
-        cudaGetLastError();
-        event_ = nullptr;
-        return;
-      }
-      cudaEventRecord(event_, 0);
-    }
+    void record() { event_.record(); }
     static double elapsed_ms(const QueueMark& a, const QueueMark& b) {
       float ms = 0;
-      if (!a.event_ || !b.event_ || cudaEventElapsedTime(&ms, a.event_, b.event_) != cudaSuccess) {
+      if (!a.event_.get() || !b.event_.get() || cudaEventElapsedTime(&ms, a.event_.get(), b.event_.get()) != cudaSuccess) {
         cudaGetLastError();
         return 0;
       }
@@ -471,7 +467,7 @@ struct Traits<Cuda> {
     }
 
    private:
-    cudaEvent_t event_ = nullptr;
+    RecordedEvent event_{cudaEventDefault};
   };
 };
 #endif

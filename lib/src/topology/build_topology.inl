@@ -26,6 +26,26 @@ void size_edges(DeviceTopology<System>& topo) {
   resize_for_overwrite(topo.edge_boundary, edge_count);
 }
 
+/// The per-node passes a build runs and a patch runs for its touched nodes, over `topo`'s arrays
+/// (their pointers taken when called: once the arrays are sized).
+template <class System>
+kernels::count_node_edges edge_counter(DeviceTopology<System>& topo, const vector<System, index_t>& face_nodes,
+                                       vector<System, index_t>& counts) {
+  return {raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset), raw<index_t>(topo.node_faces),
+          raw<index_t>(counts), topo.node_count};
+}
+template <class System>
+kernels::write_node_edges edge_writer(DeviceTopology<System>& topo, const vector<System, index_t>& face_nodes) {
+  return {raw<index_t>(face_nodes),      raw<index_t>(topo.node_face_offset), raw<index_t>(topo.node_faces),
+          raw<index_t>(topo.node_edge_offset), raw<index_t>(topo.edge_nodes),       raw<index_t>(topo.edge_faces),
+          raw<index_t>(topo.edge_face_count),  raw<std::uint8_t>(topo.edge_boundary)};
+}
+template <class System>
+kernels::flag_boundary_nodes boundary_flagger(DeviceTopology<System>& topo, const vector<System, index_t>& face_nodes) {
+  return {raw<index_t>(face_nodes),        raw<index_t>(topo.face_edges),         raw<index_t>(topo.node_face_offset),
+          raw<index_t>(topo.node_faces),   raw<std::uint8_t>(topo.edge_boundary), raw<std::uint8_t>(topo.node_boundary)};
+}
+
 /// face_edges of every half-edge, once the edges are written.
 template <class System>
 void write_all_face_edges(DeviceTopology<System>& topo, const vector<System, index_t>& face_nodes) {
@@ -55,24 +75,16 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
 
   // Edges: counted at their lower node, numbered by a scan of the counts, written in (low, high)
   // order with their faces.
-  for_each_index<System>(node_count + 1,
-                   count_node_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
-                                    raw<index_t>(topo.node_faces), raw<index_t>(node_tally), node_count});
+  for_each_index<System>(node_count + 1, edge_counter(topo, face_nodes, node_tally));
   auto& node_edge_offset = topo.node_edge_offset;
   resize_for_overwrite(node_edge_offset, nodes_and_end);
   exclusive_sum<System>(policy, raw<index_t>(node_tally), raw<index_t>(node_edge_offset), node_count + 1);
   size_edges(topo);
-  for_each_index<System>(node_count,
-                   write_node_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
-                                    raw<index_t>(topo.node_faces), raw<index_t>(node_edge_offset),
-                                    raw<index_t>(topo.edge_nodes), raw<index_t>(topo.edge_faces),
-                                    raw<index_t>(topo.edge_face_count), raw<std::uint8_t>(topo.edge_boundary)});
+  for_each_index<System>(node_count, edge_writer(topo, face_nodes));
   write_all_face_edges(topo, face_nodes);
 
   resize_for_overwrite(topo.node_boundary, node_count);
-  for_each_index<System>(node_count,
-                   flag_boundary_nodes{raw<index_t>(face_nodes), raw<index_t>(topo.face_edges), raw<index_t>(topo.node_face_offset),
-                                       raw<index_t>(topo.node_faces), raw<std::uint8_t>(topo.edge_boundary), raw<std::uint8_t>(topo.node_boundary)});
+  for_each_index<System>(node_count, boundary_flagger(topo, face_nodes));
 }
 
 template <class System>
@@ -126,29 +138,17 @@ void patch_device_topology(DeviceTopology<System>& topo, const DeviceTopology<Sy
 
   // Edges: kept nodes' counts and edges copied, touched nodes' runs sorted and their edges counted
   // and written.
-  const count_node_edges count_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
-                                     raw<index_t>(topo.node_faces), raw<index_t>(tally), node_count};
-  for_each_index<System>(node_count + 1, count_patched_edges{was, count_edges,
+  for_each_index<System>(node_count + 1, count_patched_edges{was, edge_counter(topo, face_nodes, tally),
                                                              sort_runs{raw<index_t>(topo.node_face_offset),
                                                                        raw<index_t>(topo.node_faces)}});
   auto& node_edge_offset = topo.node_edge_offset;
   resize_for_overwrite(node_edge_offset, nodes_and_end);
   exclusive_sum<System>(policy, raw<index_t>(tally), raw<index_t>(node_edge_offset), node_count + 1);
   size_edges(topo);
-  for_each_index<System>(
-      node_count, write_patched_edges{was, write_node_edges{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
-                                                            raw<index_t>(topo.node_faces), raw<index_t>(node_edge_offset),
-                                                            raw<index_t>(topo.edge_nodes), raw<index_t>(topo.edge_faces),
-                                                            raw<index_t>(topo.edge_face_count),
-                                                            raw<std::uint8_t>(topo.edge_boundary)}});
+  for_each_index<System>(node_count, write_patched_edges{was, edge_writer(topo, face_nodes)});
   write_all_face_edges(topo, face_nodes);
   resize_for_overwrite(topo.node_boundary, node_count);
-  for_each_index<System>(
-      node_count, flag_patched_boundary{was, flag_boundary_nodes{raw<index_t>(face_nodes), raw<index_t>(topo.face_edges),
-                                                                 raw<index_t>(topo.node_face_offset),
-                                                                 raw<index_t>(topo.node_faces),
-                                                                 raw<std::uint8_t>(topo.edge_boundary),
-                                                                 raw<std::uint8_t>(topo.node_boundary)}});
+  for_each_index<System>(node_count, flag_patched_boundary{was, boundary_flagger(topo, face_nodes)});
 }
 
 template <class System>
