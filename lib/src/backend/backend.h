@@ -477,8 +477,76 @@ using vector = typename Traits<System>::template vector<T>;
 
 #if TEAR_CUDA_SYSTEM
 namespace detail {
+/// Programmatic dependent launch (compute capability 9.0 and up). A stage's kernel is queued with
+/// leave to start before the kernel ahead of it in the stream has finished: its blocks are placed
+/// on the multiprocessors while the kernel ahead runs, then wait at `wait_for_kernel_ahead` until
+/// that kernel has finished and its writes are visible. What a launch costs the device between
+/// two dependent kernels (a microsecond or two) is then paid beside the kernel ahead, not after
+/// it. Every kernel queued this way waits before it touches memory, so each still sees all the
+/// work queued before it: the kernel ahead had waited for its own predecessor before finishing.
+__device__ inline void wait_for_kernel_ahead() {
+#if defined(__CUDA_ARCH__) && __CUDA_ARCH__ >= 900
+  asm volatile("griddepcontrol.wait;" ::: "memory");
+#endif
+}
+/// Lets the next kernel queued with leave to start early place its blocks; called once this
+/// kernel has waited, so at most one kernel waits ahead of its turn.
+__device__ inline void let_next_kernel_start() {
+#if defined(__CUDA_ARCH__) && __CUDA_ARCH__ >= 900
+  asm volatile("griddepcontrol.launch_dependents;");
+#endif
+}
+
+/// The largest grid queued with leave to start early: 0 where the device does not take
+/// programmatic dependent launches, else four blocks per multiprocessor (asked once). A larger
+/// grid runs long enough that a launch's gap is lost in it, and was measured slower with the leave
+/// (on an H100, a cut of a million faces by 6 %, of four million by 14 %).
+inline unsigned dependent_launch_max_blocks() {
+  static const unsigned blocks = [] {
+    int device = 0, major = 0, sms = 0;
+    if (cudaGetDevice(&device) != cudaSuccess ||
+        cudaDeviceGetAttribute(&major, cudaDevAttrComputeCapabilityMajor, device) != cudaSuccess ||
+        cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device) != cudaSuccess) {
+      cudaGetLastError();
+      return 0u;
+    }
+    return major >= 9 && sms > 0 ? 4u * static_cast<unsigned>(sms) : 0u;
+  }();
+  return blocks;
+}
+
+/// Whether a grid of `grid` blocks is queued with leave to start early.
+inline bool launch_early(unsigned grid) { return grid <= dependent_launch_max_blocks(); }
+
+/// Queues `kernel<<<grid, block>>>(args...)` on the default stream, with leave to start before the
+/// kernel ahead of it finishes where `launch_early(grid)`. The kernel must then begin with
+/// `wait_for_kernel_ahead()`.
+template <class... Params, class... Args>
+void launch_dependent(void (*kernel)(Params...), unsigned grid, unsigned block, Args... args) {
+  cudaLaunchConfig_t config{};
+  config.gridDim = dim3(grid);
+  config.blockDim = dim3(block);
+  cudaLaunchAttribute early[1];
+  early[0].id = cudaLaunchAttributeProgrammaticStreamSerialization;
+  early[0].val.programmaticStreamSerializationAllowed = 1;
+  config.attrs = early;
+  config.numAttrs = launch_early(grid) ? 1 : 0;
+  const cudaError_t status = cudaLaunchKernelEx(&config, kernel, args...);
+  if (status != cudaSuccess) {
+    cudaGetLastError();
+    throw runtime_error(std::string("a kernel could not be launched: ") + cudaGetErrorString(status));
+  }
+}
+
+/// `early`: queued with leave to start early (a small grid). A large grid skips the two grid
+/// controls: in every block they made large kernels slower even queued without the leave (on an
+/// H100 the node mapping of a million-face cut went from 56 to 63 µs).
 template <class F>
-__global__ void for_each_index_kernel(F f, index_t count) {
+__global__ void for_each_index_kernel(F f, index_t count, bool early) {
+  if (early) {
+    wait_for_kernel_ahead();
+    let_next_kernel_start();
+  }
   const index_t i = static_cast<index_t>(blockIdx.x * blockDim.x + threadIdx.x);
   if (i < count) f(i);
 }
@@ -496,10 +564,8 @@ void for_each_index(index_t count, const F& f) {
 #if TEAR_CUDA_SYSTEM
   if constexpr (std::is_same<System, Cuda>::value) {
     constexpr int block = 128;
-    detail::for_each_index_kernel<<<(count + block - 1) / block, block>>>(f, count);
-    const cudaError_t status = cudaGetLastError();
-    if (status != cudaSuccess)
-      throw runtime_error(std::string("a kernel could not be launched: ") + cudaGetErrorString(status));
+    const auto grid = static_cast<unsigned>((count + block - 1) / block);
+    detail::launch_dependent(detail::for_each_index_kernel<F>, grid, block, f, count, detail::launch_early(grid));
     return;
   }
 #endif
@@ -516,6 +582,8 @@ __global__ void one_block_exclusive_sum(const index_t* in, index_t* out, index_t
   using Scan = cub::BlockScan<index_t, Threads>;
   __shared__ typename Scan::TempStorage temp;
   __shared__ index_t carry;
+  wait_for_kernel_ahead();
+  let_next_kernel_start();
   if (threadIdx.x == 0) carry = 0;
   __syncthreads();
   for (index_t base = 0; base < count; base += Threads * Items) {
@@ -547,10 +615,7 @@ void exclusive_sum(const Policy& policy, const index_t* in, index_t* out, index_
     constexpr int threads = 1024, items = 8;
     constexpr index_t one_block_limit = 4 * threads * items;
     if (count <= one_block_limit) {
-      detail::one_block_exclusive_sum<threads, items><<<1, threads>>>(in, out, count);
-      const cudaError_t status = cudaGetLastError();
-      if (status != cudaSuccess)
-        throw runtime_error(std::string("a kernel could not be launched: ") + cudaGetErrorString(status));
+      detail::launch_dependent(detail::one_block_exclusive_sum<threads, items>, 1, threads, in, out, count);
       return;
     }
   }
