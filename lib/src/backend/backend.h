@@ -36,7 +36,9 @@
 #include "tear/error.h"
 
 #if TEAR_WITH_CUDA && defined(__CUDACC__)
+#include <cub/block/block_load.cuh>
 #include <cub/block/block_scan.cuh>
+#include <cub/block/block_store.cuh>
 #include <thrust/system/cuda/execution_policy.h>
 #include <thrust/system/cuda/vector.h>
 #define TEAR_CUDA_SYSTEM 1
@@ -576,26 +578,36 @@ void for_each_index(index_t count, const F& f) {
 #if TEAR_CUDA_SYSTEM
 namespace detail {
 /// An exclusive sum of `count` integers by one block, tile after tile, each tile's sum carried into
-/// the next (`in` and `out` may be the same: a tile is read whole before it is written).
+/// the next (`in` and `out` may be the same: a tile is read whole before it is written). A tile is
+/// loaded and stored warp by warp in consecutive addresses and turned to one run per thread in
+/// shared memory: every load of a tile is issued before any is used.
 template <int Threads, int Items>
-__global__ void one_block_exclusive_sum(const index_t* in, index_t* out, index_t count) {
+__global__ void __launch_bounds__(Threads) one_block_exclusive_sum(const index_t* in, index_t* out, index_t count) {
+  using Load = cub::BlockLoad<index_t, Threads, Items, cub::BLOCK_LOAD_TRANSPOSE>;
+  using Store = cub::BlockStore<index_t, Threads, Items, cub::BLOCK_STORE_TRANSPOSE>;
   using Scan = cub::BlockScan<index_t, Threads>;
-  __shared__ typename Scan::TempStorage temp;
+  __shared__ union {
+    typename Load::TempStorage load;
+    typename Store::TempStorage store;
+    typename Scan::TempStorage scan;
+  } temp;
   __shared__ index_t carry;
   wait_for_kernel_ahead();
   let_next_kernel_start();
   if (threadIdx.x == 0) carry = 0;
   __syncthreads();
   for (index_t base = 0; base < count; base += Threads * Items) {
-    const index_t first = base + static_cast<index_t>(threadIdx.x) * Items;
+    const int valid = static_cast<int>(count - base < Threads * Items ? count - base : Threads * Items);
     index_t v[Items];
-    for (int j = 0; j < Items; ++j) v[j] = first + j < count ? in[first + j] : 0;
+    Load(temp.load).Load(in + base, v, valid, index_t(0));
+    __syncthreads();  // `temp` is the scan's next
     index_t tile_sum;
-    Scan(temp).ExclusiveSum(v, v, tile_sum);
+    Scan(temp.scan).ExclusiveSum(v, v, tile_sum);
     const index_t before = carry;
-    for (int j = 0; j < Items; ++j)
-      if (first + j < count) out[first + j] = before + v[j];
+    for (int j = 0; j < Items; ++j) v[j] += before;
     __syncthreads();  // every thread has read `carry` and is done with `temp`
+    Store(temp.store).Store(out + base, v, valid);
+    __syncthreads();
     if (threadIdx.x == 0) carry = before + tile_sum;
     __syncthreads();
   }
