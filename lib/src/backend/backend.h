@@ -521,18 +521,18 @@ inline unsigned dependent_launch_max_blocks() {
 inline bool launch_early(unsigned grid) { return grid <= dependent_launch_max_blocks(); }
 
 /// Queues `kernel<<<grid, block>>>(args...)` on the default stream, with leave to start before the
-/// kernel ahead of it finishes where `launch_early(grid)`. The kernel must then begin with
-/// `wait_for_kernel_ahead()`.
+/// kernel ahead of it finishes where `early` (`launch_early(grid)`). The kernel must then begin
+/// with `wait_for_kernel_ahead()`.
 template <class... Params, class... Args>
-void launch_dependent(void (*kernel)(Params...), unsigned grid, unsigned block, Args... args) {
+void launch_dependent(void (*kernel)(Params...), unsigned grid, unsigned block, bool early, Args... args) {
   cudaLaunchConfig_t config{};
   config.gridDim = dim3(grid);
   config.blockDim = dim3(block);
-  cudaLaunchAttribute early[1];
-  early[0].id = cudaLaunchAttributeProgrammaticStreamSerialization;
-  early[0].val.programmaticStreamSerializationAllowed = 1;
-  config.attrs = early;
-  config.numAttrs = launch_early(grid) ? 1 : 0;
+  cudaLaunchAttribute leave[1];
+  leave[0].id = cudaLaunchAttributeProgrammaticStreamSerialization;
+  leave[0].val.programmaticStreamSerializationAllowed = 1;
+  config.attrs = leave;
+  config.numAttrs = early ? 1 : 0;
   const cudaError_t status = cudaLaunchKernelEx(&config, kernel, args...);
   if (status != cudaSuccess) {
     cudaGetLastError();
@@ -567,7 +567,8 @@ void for_each_index(index_t count, const F& f) {
   if constexpr (std::is_same<System, Cuda>::value) {
     constexpr int block = 128;
     const auto grid = static_cast<unsigned>((count + block - 1) / block);
-    detail::launch_dependent(detail::for_each_index_kernel<F>, grid, block, f, count, detail::launch_early(grid));
+    const bool early = detail::launch_early(grid);
+    detail::launch_dependent(detail::for_each_index_kernel<F>, grid, block, early, f, count, early);
     return;
   }
 #endif
@@ -606,10 +607,9 @@ __global__ void __launch_bounds__(Threads) one_block_exclusive_sum(const index_t
     const index_t before = carry;
     for (int j = 0; j < Items; ++j) v[j] += before;
     __syncthreads();  // every thread has read `carry` and is done with `temp`
-    Store(temp.store).Store(out + base, v, valid);
-    __syncthreads();
     if (threadIdx.x == 0) carry = before + tile_sum;
-    __syncthreads();
+    Store(temp.store).Store(out + base, v, valid);
+    __syncthreads();  // `temp` is the next tile's load; `carry` is written
   }
 }
 }  // namespace detail
@@ -627,7 +627,8 @@ void exclusive_sum(const Policy& policy, const index_t* in, index_t* out, index_
     constexpr int threads = 1024, items = 8;
     constexpr index_t one_block_limit = 4 * threads * items;
     if (count <= one_block_limit) {
-      detail::launch_dependent(detail::one_block_exclusive_sum<threads, items>, 1, threads, in, out, count);
+      detail::launch_dependent(detail::one_block_exclusive_sum<threads, items>, 1, threads, detail::launch_early(1), in,
+                               out, count);
       return;
     }
   }
