@@ -50,13 +50,11 @@ struct predict_positions {
   float* node_pred;
   float* node_iter;       // x⁽⁰⁾
   float* node_iter_prev;  // x⁽⁻¹⁾, only read once the acceleration starts
-  TEAR_HD Vec3f predicted(index_t n) const {
-    const Vec3f x = load3<float>(node_pos, n);
-    return node_pinned[n] ? pinned_position(pin_motion_of(node_pinned, pin_motion, pin_count, n), node_rest, x, n)
-                          : x + h * load3<float>(node_vel, n) + (h * h) * gravity;
-  }
   TEAR_HD void operator()(index_t n) const {
-    const Vec3f s = predicted(n);
+    const Vec3f x = load3<float>(node_pos, n);
+    const Vec3f s = node_pinned[n]
+                        ? pinned_position(pin_motion_of(node_pinned, pin_motion, pin_count, n), node_rest, x, n)
+                        : x + h * load3<float>(node_vel, n) + (h * h) * gravity;
     store3(node_pred, n, s);
     store3(node_iter, n, s);
     store3(node_iter_prev, n, s);
@@ -97,26 +95,6 @@ struct project_constraints {
   }
 };
 
-/// The forces of a node's constraints as the global step reads them: stored by
-/// `project_constraints` (two passes per iteration) ...
-struct StoredForces {
-  PdConstraints constraints;
-  const float* constraint_force;  // [constraint_count * 3]
-  TEAR_HD Vec3f operator()(index_t slot) const {
-    return load3<float>(constraint_force, constraints.constraint_of_slot(slot));
-  }
-};
-
-/// ... or computed where they are gathered (one pass: a spring's force by both its nodes, a
-/// hinge's by all four), in the same operations, so the same bits.
-struct ComputedForces {
-  PdConstraints constraints;
-  const float* node_iter;
-  TEAR_HD Vec3f operator()(index_t slot) const {
-    return compute_constraint_force(constraints, node_iter, constraints.constraint_of_slot(slot));
-  }
-};
-
 /// Global step at node n: one Jacobi update of (M/h² + Σ w AᵀA) x = M s/h² + Σ w Aᵀ p,
 ///   x̂ = x + (m/h² (s − x) + Σ_c k_{c,n} f_c) / D_n,
 /// then Chebyshev's x⁽ᵏ⁺¹⁾ = ω (γ (x̂ − x⁽ᵏ⁾) + x⁽ᵏ⁾ − x⁽ᵏ⁻¹⁾) + x⁽ᵏ⁻¹⁾ (Wang 2015, eq. 12 with
@@ -142,16 +120,17 @@ struct jacobi_chebyshev_update {
   float gamma;
   float* node_iter_next;
   TEAR_HD void operator()(index_t n) const {
-    store3(node_iter_next, n, next(n, StoredForces{constraints, constraint_force}));
-  }
-  /// x⁽ᵏ⁺¹⁾ at node n, each slot's force from `force_of(slot)` (`StoredForces`, `ComputedForces`).
-  template <class ForceOf>
-  TEAR_HD Vec3f next(index_t n, const ForceOf& force_of) const {
     const Vec3f x = load3<float>(node_iter, n);
-    if (node_pinned[n]) return x;
+    if (node_pinned[n]) {
+      store3(node_iter_next, n, x);
+      return;
+    }
     const Vec3f s = load3<float>(node_pred, n);
     const float diag = node_diag[n];
-    if (!(diag > 0.0f)) return s;
+    if (!(diag > 0.0f)) {
+      store3(node_iter_next, n, s);
+      return;
+    }
     Vec3f g = (node_mass[n] * inv_h2) * (s - x);
     const index_t end = node_slot_offset[n + 1];
     for (index_t i = node_slot_offset[n]; i < end; i += gather_batch) {
@@ -166,7 +145,7 @@ TEAR_UNROLL
       for (int j = 0; j < gather_batch; ++j)
         if (j < count) {
           coef[j] = constraints.slot_coef(slot[j]);
-          f[j] = force_of(slot[j]);
+          f[j] = load3<float>(constraint_force, constraints.constraint_of_slot(slot[j]));
         }
 TEAR_UNROLL
       for (int j = 0; j < gather_batch; ++j)
@@ -174,7 +153,7 @@ TEAR_UNROLL
     }
     const Vec3f x_hat = x + (1.0f / diag) * g;
     const Vec3f x_prev = load3<float>(node_iter_prev, n);
-    return omega * (gamma * (x_hat - x) + x - x_prev) + x_prev;
+    store3(node_iter_next, n, omega * (gamma * (x_hat - x) + x - x_prev) + x_prev);
   }
 };
 

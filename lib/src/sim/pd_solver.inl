@@ -29,27 +29,20 @@
 namespace tear::backend {
 
 /// How the CUDA backend launches a substep, from TEAR_CUDA_LAUNCH: `persistent` (the default: one
-/// kernel runs the whole substep, as `cluster` on a mesh whose iterates fit in a thread-block
-/// cluster's shared memory, else as `grid` on a mesh the resident threads cover in a few rounds,
-/// else as `graph`), `cluster` (one kernel per substep on one thread-block cluster, the iterates in
-/// every block's shared memory, one pass and one cluster barrier per iteration; where the mesh or
-/// the device does not allow it, as `grid`), `grid` (one cooperative kernel per substep, the grid
-/// synchronising between the two passes; where the device has no cooperative launch, as `graph`),
-/// `graph` (the substep's launches recorded once as a CUDA graph and replayed) or `plain` (every
-/// kernel launched on its own). All of them compute the same operations in the same order: the
-/// same bits.
-enum class LaunchMode { persistent, cluster, grid, graph, plain };
+/// cooperative kernel runs the whole substep, the grid synchronising between the passes, on meshes
+/// small enough for a few elements per thread; larger ones as `graph`), `graph`
+/// (the substep's launches recorded once as a CUDA graph and replayed) or `plain` (every kernel
+/// launched on its own). All three run the same operations in the same order: the same bits.
+enum class LaunchMode { persistent, graph, plain };
 
 inline LaunchMode launch_mode() {
   const char* setting = std::getenv("TEAR_CUDA_LAUNCH");
   if (!setting || !*setting) return LaunchMode::persistent;
   const std::string mode = setting;
   if (mode == "persistent") return LaunchMode::persistent;
-  if (mode == "cluster") return LaunchMode::cluster;
-  if (mode == "grid") return LaunchMode::grid;
   if (mode == "graph") return LaunchMode::graph;
   if (mode == "plain") return LaunchMode::plain;
-  throw runtime_error("TEAR_CUDA_LAUNCH=" + mode + ": expected persistent, cluster, grid, graph or plain");
+  throw runtime_error("TEAR_CUDA_LAUNCH=" + mode + ": expected persistent, graph or plain");
 }
 
 /// The kernels of one substep with their arguments, built in one place for every way of launching
@@ -86,8 +79,7 @@ TEAR_HD inline void rotate_iterates(int& cur, int& prev, int& next) {
 }
 
 #if TEAR_CUDA_SYSTEM
-inline constexpr int persistent_block = 256;  ///< threads per block of the grid-wide kernel
-inline constexpr int max_cluster = 16;        ///< blocks of the largest cluster asked for (H100: 16)
+inline constexpr int persistent_block = 256;  ///< threads per block of the persistent kernel
 
 /// The whole substep in one cooperative kernel: each pass a grid-stride loop over its elements
 /// calling the same functor as its own launch would, the grid synchronised between passes.
@@ -108,109 +100,6 @@ __global__ void persistent_substep_kernel(SubstepKernels s) {
   }
   s.finish_from(cur);
   for (index_t n = first; n < s.node_count; n += stride) s.finish(n);
-}
-
-/// Shared memory of the cluster kernel for `node_count` nodes and `constraint_count` constraints on
-/// `blocks` blocks: the three iterates, whole, and the block's share of the forces.
-TEAR_HD inline index_t cluster_constraints_per_block(index_t constraint_count, int blocks) {
-  return (constraint_count + blocks - 1) / blocks;
-}
-inline std::size_t cluster_shared_bytes(index_t node_count, index_t constraint_count, int blocks) {
-  return 3 * sizeof(float) *
-         (3 * static_cast<std::size_t>(node_count) +
-          static_cast<std::size_t>(cluster_constraints_per_block(constraint_count, blocks)));
-}
-
-/// The forces as the cluster kernel's gather reads them: constraint c's in the shared memory of
-/// the block that computed it (c / per_block), at c % per_block.
-struct ClusterForces {
-  kernels::PdConstraints constraints;
-  index_t per_block;
-  float* block_forces;  // this block's
-  __device__ kernels::Vec3f operator()(index_t slot) const {
-#if defined(__CUDA_ARCH__) && __CUDA_ARCH__ >= 900
-    const index_t c = constraints.constraint_of_slot(slot);
-    const index_t b = c / per_block;
-    return kernels::load3<float>(cooperative_groups::this_cluster().map_shared_rank(block_forces, b), c - b * per_block);
-#else
-    return {};
-#endif
-  }
-};
-
-inline int cluster_passes() {
-  const char* setting = std::getenv("TEAR_CUDA_CLUSTER_PASSES");
-  return setting && *setting ? std::atoi(setting) : 2;
-}
-inline int cluster_block_setting() {
-  const char* setting = std::getenv("TEAR_CUDA_CLUSTER_BLOCK");
-  return setting && *setting ? std::atoi(setting) : 256;
-}
-
-/// The whole substep on one thread-block cluster (the grid is the cluster). Every block keeps all
-/// three iterates in its own shared memory; each node's new iterate is written into every block's
-/// copy (distributed shared memory). Two passes: each block projects its share of the constraints
-/// from its own copy of the iterate into its shared memory; after the cluster's barrier each node
-/// gathers its constraints' forces from the blocks that hold them. (passes 1: each node computes
-/// its own constraints' forces.) The same operations in the same order, so the same bits.
-template <int block_threads>
-__global__ void __launch_bounds__(block_threads) cluster_substep_kernel(const SubstepKernels s, int passes) {
-#if defined(__CUDA_ARCH__) && __CUDA_ARCH__ >= 900
-  using kernels::Vec3f;
-  cooperative_groups::cluster_group cluster = cooperative_groups::this_cluster();
-  extern __shared__ float shared_values[];  // [3][node_count * 3], then [per_block * 3]
-  const std::size_t n3 = 3 * static_cast<std::size_t>(s.node_count);
-  float* const block_forces = shared_values + 3 * n3;
-  const unsigned blocks = cluster.num_blocks();
-  const index_t per_block = cluster_constraints_per_block(s.constraint_count, static_cast<int>(blocks));
-  const index_t c_first = static_cast<index_t>(cluster.block_rank()) * per_block;
-  const index_t c_end = c_first + per_block < s.constraint_count ? c_first + per_block : s.constraint_count;
-  const index_t first = static_cast<index_t>(cluster.block_rank() * blockDim.x + threadIdx.x);
-  const index_t stride = static_cast<index_t>(blocks * blockDim.x);
-  // Node n's value of iterate `which` into every block's copy.
-  const auto write_everywhere = [&](int which, index_t n, const Vec3f& v) {
-    for (unsigned b = 0; b < blocks; ++b) kernels::store3(cluster.map_shared_rank(shared_values + which * n3, b), n, v);
-  };
-  cluster.sync();  // every block runs before any writes into another's shared memory
-  for (index_t n = first; n < s.node_count; n += stride) {
-    const Vec3f x0 = s.predict.predicted(n);
-    kernels::store3(s.predict.node_pred, n, x0);
-    write_everywhere(0, n, x0);
-    write_everywhere(1, n, x0);
-  }
-  cluster.sync();
-  int cur = 0, prev = 1, next = 2;
-  kernels::jacobi_chebyshev_update update = s.update;
-  const ClusterForces gathered{update.constraints, per_block, block_forces};
-  for (int k = 0; k < s.iterations; ++k) {
-    update.node_iter = shared_values + cur * n3;
-    update.node_iter_prev = shared_values + prev * n3;
-    update.omega = s.omega[k];
-    if (passes == 1) {
-      const kernels::ComputedForces forces{update.constraints, update.node_iter};
-      for (index_t n = first; n < s.node_count; n += stride) write_everywhere(next, n, update.next(n, forces));
-    } else {
-      for (index_t c = c_first + static_cast<index_t>(threadIdx.x); c < c_end; c += blockDim.x)
-        kernels::store3(block_forces, c - c_first, kernels::compute_constraint_force(update.constraints, update.node_iter, c));
-      cluster.sync();
-      for (index_t n = first; n < s.node_count; n += stride) write_everywhere(next, n, update.next(n, gathered));
-    }
-    cluster.sync();
-    rotate_iterates(cur, prev, next);
-  }
-  kernels::finish_step finish = s.finish;
-  finish.node_iter = shared_values + cur * n3;
-  for (index_t n = first; n < s.node_count; n += stride) finish(n);
-#else
-  __trap();  // never launched so: clusters are asked for only from compute capability 9.0 on
-#endif
-}
-
-inline const void* cluster_kernel(int block) {
-  if (block == 1024) return reinterpret_cast<const void*>(cluster_substep_kernel<1024>);
-  if (block == 512) return reinterpret_cast<const void*>(cluster_substep_kernel<512>);
-  if (block == 128) return reinterpret_cast<const void*>(cluster_substep_kernel<128>);
-  return reinterpret_cast<const void*>(cluster_substep_kernel<256>);
 }
 #endif
 
@@ -254,7 +143,7 @@ class PdSolverOn final : public PdSolver::Impl {
     state_pos_ = raw<float>(node_pos_);
     state_vel_ = raw<float>(node_vel_);
     step_graph_ = std::make_unique<ReplayGraph<System>>();
-    persistent_decided_ = false;  // the launch depends on the mesh's size
+    persistent_grid_ = -1;  // the grid depends on the mesh's size
     build_model(cloth.face_nodes, cloth.node_rest, cloth.topo);
   }
 
@@ -398,14 +287,9 @@ class PdSolverOn final : public PdSolver::Impl {
   SubstepKernels substep_kernels(const float* omega);
   template <class Policy>
   void enqueue_substep(const Policy& policy);
-  /// How a substep runs as one kernel on this mesh and device (`LaunchMode`).
-  struct PersistentLaunch {
-    enum class Kind { none, cluster, grid } kind = Kind::none;  // none: as a graph
-    int blocks = 0;
-    std::size_t shared_bytes = 0;  // the cluster kernel's
-  };
-  PersistentLaunch persistent_launch() const;
-  /// Runs `count` substeps as one kernel each; false where the mode or the mesh does not.
+  /// Grid size of the persistent kernel for this mesh on this device, 0 where it is not used.
+  int persistent_grid();
+  /// Runs `count` substeps as persistent kernels; false where they are not used.
   bool step_persistent(int count);
   /// Runs `count` substeps the way `launch_mode_` says.
   void run_substeps(int count);
@@ -442,8 +326,7 @@ class PdSolverOn final : public PdSolver::Impl {
   float* state_vel_ = nullptr;
   std::unique_ptr<ReplayGraph<System>> step_graph_ = std::make_unique<ReplayGraph<System>>();  // one substep, recorded on the first step
   LaunchMode launch_mode_ = LaunchMode::persistent;
-  bool persistent_decided_ = false;  // persistent_ holds this mesh's launch
-  PersistentLaunch persistent_;
+  int persistent_grid_ = -1;        // not decided yet
   std::vector<float> omega_host_;   // ω of each iteration (Wang 2015, eq. 11)
   vec<float> omega_;                // the same on the backend, for the persistent kernel
 };
@@ -547,7 +430,7 @@ void PdSolverOn<System>::step_substep_in_place(float* node_pos, float* node_vel,
 
 template <class System>
 void PdSolverOn<System>::run_substeps(int count) {
-  if (launch_mode_ != LaunchMode::graph && launch_mode_ != LaunchMode::plain && step_persistent(count)) return;
+  if (launch_mode_ == LaunchMode::persistent && step_persistent(count)) return;
   const auto enqueue = [this](const auto& policy) { enqueue_substep(policy); };
   if (launch_mode_ == LaunchMode::plain) {
     for (int i = 0; i < count; ++i) enqueue(Traits<System>::policy());
@@ -609,126 +492,60 @@ void PdSolverOn<System>::enqueue_substep(const Policy& policy) {
 }
 
 template <class System>
-typename PdSolverOn<System>::PersistentLaunch PdSolverOn<System>::persistent_launch() const {
-  return {};
+int PdSolverOn<System>::persistent_grid() {
+  return 0;
 }
 
 #if TEAR_CUDA_SYSTEM
-namespace {
-/// What a device offers the one-kernel substeps, asked once per device (a solver is rebuilt after
-/// every tear).
-struct PersistentLimits {
-  long long grid_blocks = 0;       ///< blocks of the grid-wide kernel resident at once; 0: no cooperative launch
-  int cluster_blocks = 0;          ///< blocks of the largest cluster the cluster kernel runs on; 0: no clusters
-  std::size_t cluster_shared = 0;  ///< shared memory a block of it may have, bytes
-};
-
-PersistentLimits persistent_limits() {
+template <>
+int PdSolverOn<Cuda>::persistent_grid() {
+  // The blocks the device holds at once, asked once per device (a solver is rebuilt after every
+  // tear): 0 where cooperative launches are not available.
   static std::mutex mutex;
-  static std::map<int, PersistentLimits> known;
+  static std::map<int, long long> resident_blocks;
   int device = 0;
   if (cudaGetDevice(&device) != cudaSuccess) {
     cudaGetLastError();
-    return {};
+    return 0;
   }
-  const std::lock_guard<std::mutex> lock(mutex);
-  auto found = known.find(device);
-  if (found != known.end()) return found->second;
-  PersistentLimits limits;
-  int cooperative = 0, sms = 0, blocks_per_sm = 0, clusters = 0, shared = 0;
-  if (cudaDeviceGetAttribute(&cooperative, cudaDevAttrCooperativeLaunch, device) == cudaSuccess && cooperative &&
-      cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device) == cudaSuccess &&
-      cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks_per_sm, persistent_substep_kernel, persistent_block, 0) ==
-          cudaSuccess)
-    limits.grid_blocks = static_cast<long long>(sms) * blocks_per_sm;
-  cudaGetLastError();  // clear the error of a refused query
-  const void* kernel = cluster_kernel(cluster_block_setting());
-  if (cudaDeviceGetAttribute(&clusters, cudaDevAttrClusterLaunch, device) == cudaSuccess && clusters &&
-      cudaDeviceGetAttribute(&shared, cudaDevAttrMaxSharedMemoryPerBlockOptin, device) == cudaSuccess &&
-      // Clusters of more than 8 blocks are the device's own ("non-portable"): allowed, then asked for
-      // with a block's whole shared memory, so that any mesh that fits runs on as many blocks.
-      cudaFuncSetAttribute(kernel, cudaFuncAttributeNonPortableClusterSizeAllowed, 1) == cudaSuccess &&
-      cudaFuncSetAttribute(kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, shared) == cudaSuccess) {
-    cudaLaunchConfig_t config = {};
-    config.gridDim = dim3(max_cluster);
-    config.blockDim = dim3(cluster_block_setting());
-    config.dynamicSmemBytes = static_cast<std::size_t>(shared);
-    cudaLaunchAttribute attribute[1];
-    attribute[0].id = cudaLaunchAttributeClusterDimension;
-    attribute[0].val.clusterDim.x = max_cluster;
-    attribute[0].val.clusterDim.y = 1;
-    attribute[0].val.clusterDim.z = 1;
-    config.attrs = attribute;
-    config.numAttrs = 1;
-    int largest = 0;
-    if (cudaOccupancyMaxPotentialClusterSize(&largest, kernel, &config) == cudaSuccess && largest >= 1) {
-      limits.cluster_blocks = largest < max_cluster ? largest : max_cluster;
-      limits.cluster_shared = static_cast<std::size_t>(shared);
+  long long resident = 0;
+  {
+    const std::lock_guard<std::mutex> lock(mutex);
+    auto known = resident_blocks.find(device);
+    if (known == resident_blocks.end()) {
+      int cooperative = 0, sms = 0, blocks_per_sm = 0;
+      if (cudaDeviceGetAttribute(&cooperative, cudaDevAttrCooperativeLaunch, device) != cudaSuccess || !cooperative ||
+          cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device) != cudaSuccess ||
+          cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks_per_sm, persistent_substep_kernel, persistent_block,
+                                                        0) != cudaSuccess) {
+        cudaGetLastError();  // clear the error of a refused query
+        sms = blocks_per_sm = 0;
+      }
+      known = resident_blocks.emplace(device, static_cast<long long>(sms) * blocks_per_sm).first;
     }
+    resident = known->second;
   }
-  cudaGetLastError();
-  known.emplace(device, limits);
-  return limits;
-}
-}  // namespace
-
-template <>
-typename PdSolverOn<Cuda>::PersistentLaunch PdSolverOn<Cuda>::persistent_launch() const {
-  using Kind = PersistentLaunch::Kind;
-  const PersistentLimits limits = persistent_limits();
-  const auto ceil_div = [](long long a, long long b) { return a > 0 ? (a + b - 1) / b : 1; };
-  // One cluster: where a block's shared memory holds the three iterates, on a warp's worth of
-  // nodes per block at least, up to the largest cluster.
-  const char* forced = std::getenv("TEAR_CUDA_CLUSTER_BLOCKS");
-  const long long wanted_blocks = forced && *forced ? std::atoi(forced) : ceil_div(node_count_, 32);
-  const int blocks = static_cast<int>(wanted_blocks < limits.cluster_blocks ? wanted_blocks : limits.cluster_blocks);
-  const std::size_t shared = blocks > 0 ? cluster_shared_bytes(node_count_, constraint_count_, blocks) : 0;
-  if ((launch_mode_ == LaunchMode::persistent || launch_mode_ == LaunchMode::cluster) && limits.cluster_blocks > 0 &&
-      shared <= limits.cluster_shared)
-    return {Kind::cluster, blocks, shared};
-  if (limits.grid_blocks == 0) return {};
-  // The grid: only while each thread has at most a few elements per pass; on larger meshes
-  // separate launches, replayed as a graph, measured faster (H100: 4.2 against 3.7 ms per 100
-  // iterations at 131,797 nodes, 1.3 against 1.8 ms at 19,426).
+  if (resident == 0) return 0;
+  // Only while each thread has at most a few elements per pass: on larger meshes separate launches,
+  // replayed as a graph, measured faster (H100: 4.2 against 3.7 ms per 100 iterations at 131,797
+  // nodes, 1.3 against 1.8 ms at 19,426).
   const index_t work = node_count_ > constraint_count_ ? node_count_ : constraint_count_;
-  const long long wanted = ceil_div(work, persistent_block);
-  if (launch_mode_ == LaunchMode::persistent && wanted > 4 * limits.grid_blocks) return {};
-  return {Kind::grid, static_cast<int>(wanted < limits.grid_blocks ? wanted : limits.grid_blocks), 0};
+  const long long wanted = (static_cast<long long>(work) + persistent_block - 1) / persistent_block;
+  if (wanted > 4 * resident) return 0;
+  return static_cast<int>(wanted < resident ? (wanted > 0 ? wanted : 1) : resident);
 }
 #endif
 
 template <class System>
 bool PdSolverOn<System>::step_persistent(int count) {
-  if (!persistent_decided_) {  // the device and mesh do not change until a rebuild
-    persistent_ = persistent_launch();
-    persistent_decided_ = true;
-  }
-  if (persistent_.kind == PersistentLaunch::Kind::none) return false;
+  if (persistent_grid_ < 0) persistent_grid_ = persistent_grid();  // the device and mesh do not change
+  if (persistent_grid_ == 0) return false;
 #if TEAR_CUDA_SYSTEM
   SubstepKernels s = substep_kernels(raw<float>(omega_));
   void* args[] = {&s};
   for (int i = 0; i < count; ++i) {
-    cudaError_t status;
-    if (persistent_.kind == PersistentLaunch::Kind::grid) {
-      status = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(persistent_substep_kernel),
-                                           dim3(persistent_.blocks), dim3(persistent_block), args, 0, 0);
-    } else {
-      // The grid is one cluster: its blocks run at once and reach each other's shared memory.
-      cudaLaunchConfig_t config = {};
-      config.gridDim = dim3(static_cast<unsigned>(persistent_.blocks));
-      config.blockDim = dim3(cluster_block_setting());
-      config.dynamicSmemBytes = persistent_.shared_bytes;
-      cudaLaunchAttribute attribute[1];
-      attribute[0].id = cudaLaunchAttributeClusterDimension;
-      attribute[0].val.clusterDim.x = static_cast<unsigned>(persistent_.blocks);
-      attribute[0].val.clusterDim.y = 1;
-      attribute[0].val.clusterDim.z = 1;
-      config.attrs = attribute;
-      config.numAttrs = 1;
-      int passes = cluster_passes();
-      void* cluster_args[] = {&s, &passes};
-      status = cudaLaunchKernelExC(&config, cluster_kernel(cluster_block_setting()), cluster_args);
-    }
+    const cudaError_t status = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(persistent_substep_kernel),
+                                                           dim3(persistent_grid_), dim3(persistent_block), args, 0, 0);
     if (status != cudaSuccess)
       throw runtime_error(std::string("the solver's kernel could not be launched: ") + cudaGetErrorString(status));
   }
