@@ -174,6 +174,9 @@ struct ConstraintSlots {
 /// β = 2 at most nodes of a well-shaped one; on a sliver its small coefficients get the large βs, so
 /// that one stiff hinge cannot drive its nodes into oscillation (it would with β = 1: a hinge alone
 /// has λ(D⁻¹A) = 4).
+///
+/// Also copies each slot's coefficient beside the slot in the CSR (`node_slot_coef`), so that the
+/// Jacobi update reads its coefficients in a run instead of one scattered load per hinge slot.
 struct compute_jacobi_diagonal {
   const index_t* node_slot_offset;
   const index_t* node_slots;
@@ -181,12 +184,15 @@ struct compute_jacobi_diagonal {
   const float* node_mass;
   float inv_h2;  // 1/s²
   float* node_diag;
+  float* node_slot_coef;  // [slots], in CSR order
   TEAR_HD void operator()(index_t n) const {
     float d = node_mass[n] * inv_h2;
     for (index_t i = node_slot_offset[n]; i < node_slot_offset[n + 1]; ++i) {
       const index_t s = node_slots[i];
       const index_t c = constraints.constraint_of_slot(s);
-      const float k = fabsf(constraints.slot_coef(s));
+      const float coef = constraints.slot_coef(s);
+      node_slot_coef[i] = coef;
+      const float k = fabsf(coef);
       const float sum = constraints.coef_abs_sum(c);
       d += constraints.weight(c) * k * (0.5f * sum > k ? 0.5f * sum : k);
     }

@@ -107,6 +107,7 @@ struct jacobi_chebyshev_update {
   static constexpr int gather_batch = 8;
   const index_t* node_slot_offset;
   const index_t* node_slots;
+  const float* node_slot_coef;  // each slot's coefficient, in CSR order (`compute_jacobi_diagonal`)
   PdConstraints constraints;
   const float* constraint_force;  // [constraint_count * 3], from `project_constraints`
   const float* node_mass;
@@ -135,16 +136,17 @@ struct jacobi_chebyshev_update {
     const index_t end = node_slot_offset[n + 1];
     for (index_t i = node_slot_offset[n]; i < end; i += gather_batch) {
       const int count = end - i < gather_batch ? static_cast<int>(end - i) : gather_batch;
-      index_t slot[gather_batch];
-      float coef[gather_batch];
-      Vec3f f[gather_batch];
+      // Zeroed only for the host compiler's sake: only the first `count` of each are read.
+      index_t slot[gather_batch] = {};
+      float coef[gather_batch] = {};
+      Vec3f f[gather_batch] = {};
 TEAR_UNROLL
       for (int j = 0; j < gather_batch; ++j)
         if (j < count) slot[j] = node_slots[i + j];
 TEAR_UNROLL
       for (int j = 0; j < gather_batch; ++j)
         if (j < count) {
-          coef[j] = constraints.slot_coef(slot[j]);
+          coef[j] = node_slot_coef[i + j];
           f[j] = load3<float>(constraint_force, constraints.constraint_of_slot(slot[j]));
         }
 TEAR_UNROLL

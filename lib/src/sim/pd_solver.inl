@@ -233,8 +233,7 @@ class PdSolverOn final : public PdSolver::Impl {
     // Local step: a spring's record (2 nodes, weight, rest length) or a hinge's (4 nodes, 4
     // coefficients, weight, rest value) read, its force written; each iterate read once. Global
     // step: a node's CSR offset, mass, diagonal, pin, prediction and two iterates read and the next
-    // written; a slot's index (and a hinge slot's coefficient: counted for every slot) read; each
-    // force read once.
+    // written; a slot's index and its coefficient (both in CSR order) read; each force read once.
     const std::size_t records = e * (2 * sizeof(index_t) + 2 * sizeof(float)) +
                                 e * (4 * sizeof(index_t) + 4 * sizeof(float) + 2 * sizeof(float));
     const std::size_t forces = 2 * c * 3 * sizeof(float);
@@ -310,6 +309,7 @@ class PdSolverOn final : public PdSolver::Impl {
   vec<index_t> spring_nodes_, hinge_nodes_;
   vec<float> spring_weight_, spring_rest_, hinge_coef_, hinge_weight_, hinge_rest_;
   vec<index_t> node_slot_offset_, node_slots_;  // node_slots_ sized for every slot, used or not
+  vec<float> node_slot_coef_;                    // each CSR slot's coefficient, sized as node_slots_
   vec<index_t> node_tally_;                      // the CSR's counts and cursors
   // Pins and colliders as the substep being run sees them ([pin_count], [collider_count]); with
   // keys, rewritten before each substep from the frame's records ([substeps × count] each).
@@ -380,10 +380,11 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
 
   const double h = options_.step_seconds();
   resize_for_overwrite(node_diag_, node_count_);
+  resize_for_overwrite(node_slot_coef_, node_slots_.size());
   for_each_index<System>(node_count_,
       compute_jacobi_diagonal{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), model, raw<float>(node_mass_),
                               static_cast<float>(1.0 / (h * h)),
-                              raw<float>(node_diag_)});
+                              raw<float>(node_diag_), raw<float>(node_slot_coef_)});
 }
 
 template <class System>
@@ -457,7 +458,8 @@ SubstepKernels PdSolverOn<System>::substep_kernels(const float* omega) {
   // Local step: every constraint's projection at the current iterate (§4.1).
   s.project = project_constraints{model, nullptr, raw<float>(constraint_force_)};
   // Global step: one Chebyshev-weighted Jacobi update per node (Wang 2015, §4).
-  s.update = jacobi_chebyshev_update{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_), model,
+  s.update = jacobi_chebyshev_update{raw<index_t>(node_slot_offset_), raw<index_t>(node_slots_),
+                                     raw<float>(node_slot_coef_), model,
                                      raw<float>(constraint_force_), raw<float>(node_mass_), raw<float>(node_diag_),
                                      raw<std::uint8_t>(node_pinned_), raw<float>(node_pred_), nullptr, nullptr,
                                      static_cast<float>(1.0 / (h * h)), 0.0f,
