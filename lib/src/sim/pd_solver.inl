@@ -81,25 +81,35 @@ TEAR_HD inline void rotate_iterates(int& cur, int& prev, int& next) {
 #if TEAR_CUDA_SYSTEM
 inline constexpr int persistent_block = 256;  ///< threads per block of the persistent kernel
 
-/// The whole substep in one cooperative kernel: each pass a grid-stride loop over its elements
-/// calling the same functor as its own launch would, the grid synchronised between passes.
+/// The whole substep in one cooperative kernel: each pass a loop over its elements calling the
+/// same functor as its own launch would, the grid synchronised between passes. The grid is sized
+/// for the constraints (the larger pass); the nodes, a third as many or fewer, are dealt to every
+/// block in equal runs rather than to the first blocks only, so that the gather's loads, the
+/// longest chain of an iteration, are spread over every multiprocessor's caches and load units
+/// (H100, 100 iterations: 0.76 → 0.69 ms at 2,822 faces, whose 1,486 nodes the first 6 of 34
+/// blocks gathered; 1.15 → 0.88 ms at 38,298 faces).
 __global__ void persistent_substep_kernel(SubstepKernels s) {
   cooperative_groups::grid_group grid = cooperative_groups::this_grid();
   const index_t first = static_cast<index_t>(blockIdx.x * blockDim.x + threadIdx.x);
   const index_t stride = static_cast<index_t>(gridDim.x * blockDim.x);
-  for (index_t n = first; n < s.node_count; n += stride) s.predict(n);
+  const index_t node_run = (s.node_count + static_cast<index_t>(gridDim.x) - 1) / static_cast<index_t>(gridDim.x);
+  const index_t node_begin = static_cast<index_t>(blockIdx.x) * node_run;
+  const index_t node_end = node_begin + node_run < s.node_count ? node_begin + node_run : s.node_count;
+  const index_t node_first = node_begin + static_cast<index_t>(threadIdx.x);
+  const index_t node_stride = static_cast<index_t>(blockDim.x);
+  for (index_t n = node_first; n < node_end; n += node_stride) s.predict(n);
   grid.sync();
   int cur = 0, prev = 1, next = 2;
   for (int k = 0; k < s.iterations; ++k) {
     s.iteration(k, cur, prev, next);
     for (index_t c = first; c < s.constraint_count; c += stride) s.project(c);
     grid.sync();
-    for (index_t n = first; n < s.node_count; n += stride) s.update(n);
+    for (index_t n = node_first; n < node_end; n += node_stride) s.update(n);
     grid.sync();
     rotate_iterates(cur, prev, next);
   }
   s.finish_from(cur);
-  for (index_t n = first; n < s.node_count; n += stride) s.finish(n);
+  for (index_t n = node_first; n < node_end; n += node_stride) s.finish(n);
 }
 #endif
 
