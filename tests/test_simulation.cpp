@@ -567,33 +567,42 @@ TEST_CASE("simulation: the state round-trips through the host and the device poi
 }
 
 TEST_CASE("simulation: every way of launching a step gives the same bits", "[simulation]") {
-  // On the GPU: one persistent kernel per substep, a replayed CUDA graph, or every kernel on its own
-  // (TEAR_CUDA_LAUNCH); on the CPU the three are one path.
-  const tear::Mesh mesh = horizontal_sheet(800, true);
+  // On the GPU: one cooperative kernel per substep, with one pass an iteration (a group of lanes
+  // per node computing its constraints' forces) or two (constraints, then nodes), a replayed CUDA
+  // graph, or every kernel on its own (TEAR_CUDA_LAUNCH); on the CPU they are one path, so two of
+  // them are enough there. The default picks one pass on the small sheet and two on the larger.
   SimulationOptions o;
+  o.substeps = 2;
+  o.iterations = 25;
   o.pins = {edge_pin()};
   o.colliders = {tear::Collider{tear::Collider::Kind::sphere, {0.5, -0.4, 0.3}, {0, 1, 0}, 0.2, {}}};
-  const char* modes[3] = {"persistent", "graph", "plain"};
-  std::vector<float> pos[3], vel[3];
-  for (int m = 0; m < 3; ++m) {
-    tear::test::ScopedEnvironment mode("TEAR_CUDA_LAUNCH", modes[m]);
-    PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
-    for (int f = 0; f < 6; ++f) solver.step();
-    pos[m] = solver.node_pos();
-    vel[m] = solver.node_vel();
+  constexpr int mode_count = 5;
+  const char* modes[mode_count] = {"persistent", "one-pass", "two-pass", "graph", "plain"};
+  const int modes_run = tear::test::test_device() == tear::Device::cuda ? mode_count : 2;
+  for (const index_t faces : {800, 40000}) {
+    const tear::Mesh mesh = horizontal_sheet(faces, true);
+    std::vector<float> pos[mode_count], vel[mode_count];
+    for (int m = 0; m < modes_run; ++m) {
+      tear::test::ScopedEnvironment mode("TEAR_CUDA_LAUNCH", modes[m]);
+      PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
+      for (int f = 0; f < 4; ++f) solver.step();
+      pos[m] = solver.node_pos();
+      vel[m] = solver.node_vel();
+    }
+    CHECK(pos[0] != mesh.node_pos);
+    for (int m = 1; m < modes_run; ++m) {
+      INFO(faces << " faces: " << modes[m] << " against " << modes[0]);
+      CHECK(std::memcmp(pos[0].data(), pos[m].data(), pos[0].size() * sizeof(float)) == 0);
+      CHECK(std::memcmp(vel[0].data(), vel[m].data(), vel[0].size() * sizeof(float)) == 0);
+    }
   }
-  CHECK(pos[0] != mesh.node_pos);
-  for (int m = 1; m < 3; ++m) {
-    INFO(modes[m] << " against " << modes[0]);
-    CHECK(std::memcmp(pos[0].data(), pos[m].data(), pos[0].size() * sizeof(float)) == 0);
-    CHECK(std::memcmp(vel[0].data(), vel[m].data(), vel[0].size() * sizeof(float)) == 0);
-  }
+  const tear::Mesh mesh = horizontal_sheet(800, true);
   tear::test::ScopedEnvironment bad("TEAR_CUDA_LAUNCH", "fast");
   try {
     PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
     FAIL("expected an error");
   } catch (const tear::Error& e) {
-    CHECK(std::string(e.what()) == "TEAR_CUDA_LAUNCH=fast: expected persistent, graph or plain");
+    CHECK(std::string(e.what()) == "TEAR_CUDA_LAUNCH=fast: expected persistent, one-pass, two-pass, graph or plain");
   }
 }
 

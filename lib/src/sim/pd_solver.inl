@@ -29,20 +29,26 @@
 namespace tear::backend {
 
 /// How the CUDA backend launches a substep, from TEAR_CUDA_LAUNCH: `persistent` (the default: one
-/// cooperative kernel runs the whole substep, the grid synchronising between the passes, on meshes
-/// small enough for a few elements per thread; larger ones as `graph`), `graph`
-/// (the substep's launches recorded once as a CUDA graph and replayed) or `plain` (every kernel
-/// launched on its own). All three run the same operations in the same order: the same bits.
-enum class LaunchMode { persistent, graph, plain };
+/// cooperative kernel runs the whole substep, as `one-pass` on a mesh of a few thousand nodes, as
+/// `two-pass` on a mesh the resident threads cover in a few rounds, else as `graph`), `one-pass`
+/// (one cooperative kernel, each iteration one pass and one grid barrier: a group of lanes per
+/// node computes its constraints' forces and sums them), `two-pass` (one cooperative kernel, each
+/// iteration a pass over the constraints and one over the nodes, the grid synchronising between
+/// them), `graph` (the substep's launches recorded once as a CUDA graph and replayed) or `plain`
+/// (every kernel launched on its own). Where the device has no cooperative launch the first three
+/// run as `graph`. All of them compute the same operations in the same order: the same bits.
+enum class LaunchMode { persistent, one_pass, two_pass, graph, plain };
 
 inline LaunchMode launch_mode() {
   const char* setting = std::getenv("TEAR_CUDA_LAUNCH");
   if (!setting || !*setting) return LaunchMode::persistent;
   const std::string mode = setting;
   if (mode == "persistent") return LaunchMode::persistent;
+  if (mode == "one-pass") return LaunchMode::one_pass;
+  if (mode == "two-pass") return LaunchMode::two_pass;
   if (mode == "graph") return LaunchMode::graph;
   if (mode == "plain") return LaunchMode::plain;
-  throw runtime_error("TEAR_CUDA_LAUNCH=" + mode + ": expected persistent, graph or plain");
+  throw runtime_error("TEAR_CUDA_LAUNCH=" + mode + ": expected persistent, one-pass, two-pass, graph or plain");
 }
 
 /// The kernels of one substep with their arguments, built in one place for every way of launching
@@ -88,7 +94,7 @@ inline constexpr int persistent_block = 256;  ///< threads per block of the pers
 /// longest chain of an iteration, are spread over every multiprocessor's caches and load units
 /// (H100, 100 iterations: 0.76 → 0.69 ms at 2,822 faces, whose 1,486 nodes the first 6 of 34
 /// blocks gathered; 1.15 → 0.88 ms at 38,298 faces).
-__global__ void persistent_substep_kernel(SubstepKernels s) {
+__global__ void two_pass_substep_kernel(SubstepKernels s) {
   cooperative_groups::grid_group grid = cooperative_groups::this_grid();
   const index_t first = static_cast<index_t>(blockIdx.x * blockDim.x + threadIdx.x);
   const index_t stride = static_cast<index_t>(gridDim.x * blockDim.x);
@@ -110,6 +116,97 @@ __global__ void persistent_substep_kernel(SubstepKernels s) {
   }
   s.finish_from(cur);
   for (index_t n = node_first; n < node_end; n += node_stride) s.finish(n);
+}
+
+/// Lanes that share one node's update in the one-pass kernel, and the products each lane holds
+/// before the group sums them.
+inline constexpr int group_lanes = 8;
+inline constexpr int group_rounds = 4;
+
+/// One Jacobi-Chebyshev update of node n (`active`) by a group of `group_lanes` lanes: each lane
+/// computes the forces of some of the node's constraints itself (`compute_constraint_force`, as
+/// the local step would) times their coefficients, and every lane sums the products in slot order
+/// through shuffles, so the result is the bits of `jacobi_chebyshev_update` after
+/// `project_constraints`, without the forces' trip through memory and the barrier between them.
+/// Every lane of the warp calls it the same number of times (inactive groups too).
+__device__ void group_update(const kernels::jacobi_chebyshev_update& u, index_t n, bool active) {
+  using kernels::Vec3f;
+  const int lane = static_cast<int>(threadIdx.x) % group_lanes;
+  index_t begin = 0, count = 0;
+  Vec3f x{0, 0, 0}, s{0, 0, 0}, g{0, 0, 0};
+  if (active) {
+    x = kernels::load3<float>(u.node_iter, n);
+    begin = u.node_slot_offset[n];
+    count = u.node_slot_offset[n + 1] - begin;
+    s = kernels::load3<float>(u.node_pred, n);
+    g = (u.node_mass[n] * u.inv_h2) * (s - x);
+  }
+  constexpr int chunk = group_lanes * group_rounds;
+  const int chunks = __reduce_max_sync(0xffffffffu, static_cast<unsigned>((count + chunk - 1) / chunk));
+  for (int c = 0; c < chunks; ++c) {
+    Vec3f product[group_rounds];
+#pragma unroll
+    for (int r = 0; r < group_rounds; ++r) {
+      const index_t j = c * chunk + r * group_lanes + lane;
+      product[r] = Vec3f{0, 0, 0};
+      if (j < count) {
+        const index_t slot = u.node_slots[begin + j];
+        product[r] = u.node_slot_coef[begin + j] *
+                     kernels::compute_constraint_force(u.constraints, u.node_iter, u.constraints.constraint_of_slot(slot));
+      }
+    }
+#pragma unroll
+    for (int r = 0; r < group_rounds; ++r)
+#pragma unroll
+      for (int l = 0; l < group_lanes; ++l) {
+        const Vec3f p{__shfl_sync(0xffffffffu, product[r].x, l, group_lanes),
+                      __shfl_sync(0xffffffffu, product[r].y, l, group_lanes),
+                      __shfl_sync(0xffffffffu, product[r].z, l, group_lanes)};
+        if (c * chunk + r * group_lanes + l < count) g = g + p;
+      }
+  }
+  if (!active || lane != 0) return;
+  Vec3f next = x;
+  if (!u.node_pinned[n]) {
+    const float diag = u.node_diag[n];
+    if (!(diag > 0.0f)) {
+      next = s;
+    } else {
+      const Vec3f x_hat = x + (1.0f / diag) * g;
+      const Vec3f x_prev = kernels::load3<float>(u.node_iter_prev, n);
+      next = u.omega * (u.gamma * (x_hat - x) + x - x_prev) + x_prev;
+    }
+  }
+  kernels::store3(u.node_iter_next, n, next);
+}
+
+/// The whole substep in one cooperative kernel with one pass and one grid barrier per iteration:
+/// each node updated by a group of lanes (`group_update`). The nodes are dealt to the blocks in
+/// equal runs, as in `two_pass_substep_kernel`.
+__global__ void one_pass_substep_kernel(SubstepKernels s) {
+  cooperative_groups::grid_group grid = cooperative_groups::this_grid();
+  const index_t node_run = (s.node_count + static_cast<index_t>(gridDim.x) - 1) / static_cast<index_t>(gridDim.x);
+  const index_t node_begin = static_cast<index_t>(blockIdx.x) * node_run;
+  const index_t node_end = node_begin + node_run < s.node_count ? node_begin + node_run : s.node_count;
+  for (index_t n = node_begin + static_cast<index_t>(threadIdx.x); n < node_end; n += static_cast<index_t>(blockDim.x))
+    s.predict(n);
+  grid.sync();
+  const index_t groups = static_cast<index_t>(blockDim.x) / group_lanes;
+  const index_t rounds = (node_run + groups - 1) / groups;  // the same in every block: warps stay whole
+  const index_t group = static_cast<index_t>(threadIdx.x) / group_lanes;
+  int cur = 0, prev = 1, next = 2;
+  for (int k = 0; k < s.iterations; ++k) {
+    s.iteration(k, cur, prev, next);
+    for (index_t r = 0; r < rounds; ++r) {
+      const index_t n = node_begin + r * groups + group;
+      group_update(s.update, n, n < node_end);
+    }
+    grid.sync();
+    rotate_iterates(cur, prev, next);
+  }
+  s.finish_from(cur);
+  for (index_t n = node_begin + static_cast<index_t>(threadIdx.x); n < node_end; n += static_cast<index_t>(blockDim.x))
+    s.finish(n);
 }
 #endif
 
@@ -153,7 +250,7 @@ class PdSolverOn final : public PdSolver::Impl {
     state_pos_ = raw<float>(node_pos_);
     state_vel_ = raw<float>(node_vel_);
     step_graph_ = std::make_unique<ReplayGraph<System>>();
-    persistent_grid_ = -1;  // the grid depends on the mesh's size
+    persistent_decided_ = false;  // the launch depends on the mesh's size
     build_model(cloth.face_nodes, cloth.node_rest, cloth.topo);
   }
 
@@ -296,8 +393,12 @@ class PdSolverOn final : public PdSolver::Impl {
   SubstepKernels substep_kernels(const float* omega);
   template <class Policy>
   void enqueue_substep(const Policy& policy);
-  /// Grid size of the persistent kernel for this mesh on this device, 0 where it is not used.
-  int persistent_grid();
+  /// How a substep runs as one cooperative kernel on this mesh and device.
+  struct PersistentLaunch {
+    enum class Kind { none, one_pass, two_pass } kind = Kind::none;  // none: as `graph`
+    int blocks = 0;
+  };
+  PersistentLaunch persistent_launch() const;
   /// Runs `count` substeps as persistent kernels; false where they are not used.
   bool step_persistent(int count);
   /// Runs `count` substeps the way `launch_mode_` says.
@@ -336,7 +437,8 @@ class PdSolverOn final : public PdSolver::Impl {
   float* state_vel_ = nullptr;
   std::unique_ptr<ReplayGraph<System>> step_graph_ = std::make_unique<ReplayGraph<System>>();  // one substep, recorded on the first step
   LaunchMode launch_mode_ = LaunchMode::persistent;
-  int persistent_grid_ = -1;        // not decided yet
+  bool persistent_decided_ = false;  // persistent_ holds this mesh's launch
+  PersistentLaunch persistent_;
   std::vector<float> omega_host_;   // ω of each iteration (Wang 2015, eq. 11)
   vec<float> omega_;                // the same on the backend, for the persistent kernel
 };
@@ -441,7 +543,7 @@ void PdSolverOn<System>::step_substep_in_place(float* node_pos, float* node_vel,
 
 template <class System>
 void PdSolverOn<System>::run_substeps(int count) {
-  if (launch_mode_ == LaunchMode::persistent && step_persistent(count)) return;
+  if (launch_mode_ != LaunchMode::graph && launch_mode_ != LaunchMode::plain && step_persistent(count)) return;
   const auto enqueue = [this](const auto& policy) { enqueue_substep(policy); };
   if (launch_mode_ == LaunchMode::plain) {
     for (int i = 0; i < count; ++i) enqueue(Traits<System>::policy());
@@ -504,60 +606,88 @@ void PdSolverOn<System>::enqueue_substep(const Policy& policy) {
 }
 
 template <class System>
-int PdSolverOn<System>::persistent_grid() {
-  return 0;
+typename PdSolverOn<System>::PersistentLaunch PdSolverOn<System>::persistent_launch() const {
+  return {};
 }
 
 #if TEAR_CUDA_SYSTEM
-template <>
-int PdSolverOn<Cuda>::persistent_grid() {
-  // The blocks the device holds at once, asked once per device (a solver is rebuilt after every
-  // tear): 0 where cooperative launches are not available.
+namespace {
+/// The blocks of each cooperative substep kernel the device holds at once, asked once per device
+/// (a solver is rebuilt after every tear); 0 where cooperative launches are not available.
+struct ResidentBlocks {
+  long long two_pass = 0, one_pass = 0;
+};
+
+ResidentBlocks resident_blocks() {
   static std::mutex mutex;
-  static std::map<int, long long> resident_blocks;
+  static std::map<int, ResidentBlocks> known;
   int device = 0;
   if (cudaGetDevice(&device) != cudaSuccess) {
     cudaGetLastError();
-    return 0;
+    return {};
   }
-  long long resident = 0;
-  {
-    const std::lock_guard<std::mutex> lock(mutex);
-    auto known = resident_blocks.find(device);
-    if (known == resident_blocks.end()) {
-      int cooperative = 0, sms = 0, blocks_per_sm = 0;
-      if (cudaDeviceGetAttribute(&cooperative, cudaDevAttrCooperativeLaunch, device) != cudaSuccess || !cooperative ||
-          cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device) != cudaSuccess ||
-          cudaOccupancyMaxActiveBlocksPerMultiprocessor(&blocks_per_sm, persistent_substep_kernel, persistent_block,
-                                                        0) != cudaSuccess) {
-        cudaGetLastError();  // clear the error of a refused query
-        sms = blocks_per_sm = 0;
-      }
-      known = resident_blocks.emplace(device, static_cast<long long>(sms) * blocks_per_sm).first;
-    }
-    resident = known->second;
-  }
-  if (resident == 0) return 0;
-  // Only while each thread has at most a few elements per pass: on larger meshes separate launches,
-  // replayed as a graph, measured faster (H100: 4.2 against 3.7 ms per 100 iterations at 131,797
-  // nodes, 1.3 against 1.8 ms at 19,426).
-  const index_t work = node_count_ > constraint_count_ ? node_count_ : constraint_count_;
-  const long long wanted = (static_cast<long long>(work) + persistent_block - 1) / persistent_block;
-  if (wanted > 4 * resident) return 0;
-  return static_cast<int>(wanted < resident ? (wanted > 0 ? wanted : 1) : resident);
+  const std::lock_guard<std::mutex> lock(mutex);
+  auto found = known.find(device);
+  if (found != known.end()) return found->second;
+  ResidentBlocks resident;
+  int cooperative = 0, sms = 0, two_pass = 0, one_pass = 0;
+  if (cudaDeviceGetAttribute(&cooperative, cudaDevAttrCooperativeLaunch, device) == cudaSuccess && cooperative &&
+      cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device) == cudaSuccess &&
+      cudaOccupancyMaxActiveBlocksPerMultiprocessor(&two_pass, two_pass_substep_kernel, persistent_block, 0) ==
+          cudaSuccess &&
+      cudaOccupancyMaxActiveBlocksPerMultiprocessor(&one_pass, one_pass_substep_kernel, persistent_block, 0) ==
+          cudaSuccess)
+    resident = {static_cast<long long>(sms) * two_pass, static_cast<long long>(sms) * one_pass};
+  cudaGetLastError();  // clear the error of a refused query
+  known.emplace(device, resident);
+  return resident;
+}
+}  // namespace
+
+template <>
+typename PdSolverOn<Cuda>::PersistentLaunch PdSolverOn<Cuda>::persistent_launch() const {
+  using Kind = PersistentLaunch::Kind;
+  const ResidentBlocks resident = resident_blocks();
+  const auto blocks_for = [](long long threads, long long most) {
+    const long long wanted = threads > 0 ? (threads + persistent_block - 1) / persistent_block : 1;
+    return static_cast<int>(wanted < most ? wanted : most);
+  };
+  // One pass: a group of lanes per node, each group computing the node's constraints' forces
+  // itself, three times the local step's arithmetic for one barrier an iteration instead of two
+  // and no forces through memory. Measured on an H100 (100 iterations): faster while the groups
+  // fill at most a quarter of the resident threads (1,486 nodes 0.69 → 0.57 ms, 4,646 nodes 0.71 →
+  // 0.65 ms), slower beyond (19,426 nodes 0.88 → 1.28 ms: the arithmetic then fills the device).
+  const long long group_threads = static_cast<long long>(node_count_) * group_lanes;
+  if (resident.one_pass > 0 &&
+      (launch_mode_ == LaunchMode::one_pass ||
+       (launch_mode_ == LaunchMode::persistent && 4 * group_threads <= resident.one_pass * persistent_block)))
+    return {Kind::one_pass, blocks_for(group_threads, resident.one_pass)};
+  if (resident.two_pass == 0) return {};
+  // Two passes: only while each thread has at most a few elements per pass; on larger meshes
+  // separate launches, replayed as a graph, measured faster (H100: 4.2 against 3.7 ms per 100
+  // iterations at 131,797 nodes, 1.3 against 1.8 ms at 19,426).
+  const long long work = node_count_ > constraint_count_ ? node_count_ : constraint_count_;
+  if (launch_mode_ == LaunchMode::persistent && work > 4 * resident.two_pass * persistent_block) return {};
+  return {Kind::two_pass, blocks_for(work, resident.two_pass)};
 }
 #endif
 
 template <class System>
 bool PdSolverOn<System>::step_persistent(int count) {
-  if (persistent_grid_ < 0) persistent_grid_ = persistent_grid();  // the device and mesh do not change
-  if (persistent_grid_ == 0) return false;
+  if (!persistent_decided_) {  // the device and mesh do not change until a rebuild
+    persistent_ = persistent_launch();
+    persistent_decided_ = true;
+  }
+  if (persistent_.kind == PersistentLaunch::Kind::none) return false;
 #if TEAR_CUDA_SYSTEM
   SubstepKernels s = substep_kernels(raw<float>(omega_));
   void* args[] = {&s};
+  const void* kernel = persistent_.kind == PersistentLaunch::Kind::one_pass
+                           ? reinterpret_cast<const void*>(one_pass_substep_kernel)
+                           : reinterpret_cast<const void*>(two_pass_substep_kernel);
   for (int i = 0; i < count; ++i) {
-    const cudaError_t status = cudaLaunchCooperativeKernel(reinterpret_cast<const void*>(persistent_substep_kernel),
-                                                           dim3(persistent_grid_), dim3(persistent_block), args, 0, 0);
+    const cudaError_t status =
+        cudaLaunchCooperativeKernel(kernel, dim3(persistent_.blocks), dim3(persistent_block), args, 0, 0);
     if (status != cudaSuccess)
       throw runtime_error(std::string("the solver's kernel could not be launched: ") + cudaGetErrorString(status));
   }
