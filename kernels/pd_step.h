@@ -100,9 +100,11 @@ struct project_constraints {
 /// then Chebyshev's x⁽ᵏ⁺¹⁾ = ω (γ (x̂ − x⁽ᵏ⁾) + x⁽ᵏ⁾ − x⁽ᵏ⁻¹⁾) + x⁽ᵏ⁻¹⁾ (Wang 2015, eq. 12 with
 /// under-relaxation γ). Pinned nodes stay. A node with no mass and no constraint follows s.
 ///
-/// The gather is latency-bound (a node's slots, then their coefficients and forces, a chain of
-/// dependent loads per slot): slots are read `gather_batch` at a time and their loads issued before
-/// any is summed, and the sum still runs in slot order, so the bits are those of a plain loop.
+/// The gather is latency-bound (a node's slots, then their forces, a chain of dependent loads per
+/// slot): slots are read `gather_batch` at a time (`update<batch>`: 16 where a small mesh's
+/// iteration waits on latency alone, 8 where a large one's needs the bandwidth) and their loads
+/// issued before any is summed, and the sum still runs in slot order, so the bits are those of a
+/// plain loop whatever the batch.
 struct jacobi_chebyshev_update {
   static constexpr int gather_batch = 8;
   const index_t* node_slot_offset;
@@ -120,7 +122,9 @@ struct jacobi_chebyshev_update {
   float omega;
   float gamma;
   float* node_iter_next;
-  TEAR_HD void operator()(index_t n) const {
+  TEAR_HD void operator()(index_t n) const { update<gather_batch>(n); }
+  template <int batch>
+  TEAR_HD void update(index_t n) const {
     const Vec3f x = load3<float>(node_iter, n);
     if (node_pinned[n]) {
       store3(node_iter_next, n, x);
@@ -134,23 +138,23 @@ struct jacobi_chebyshev_update {
     }
     Vec3f g = (node_mass[n] * inv_h2) * (s - x);
     const index_t end = node_slot_offset[n + 1];
-    for (index_t i = node_slot_offset[n]; i < end; i += gather_batch) {
-      const int count = end - i < gather_batch ? static_cast<int>(end - i) : gather_batch;
+    for (index_t i = node_slot_offset[n]; i < end; i += batch) {
+      const int count = end - i < batch ? static_cast<int>(end - i) : batch;
       // Zeroed only for the host compiler's sake: only the first `count` of each are read.
-      index_t slot[gather_batch] = {};
-      float coef[gather_batch] = {};
-      Vec3f f[gather_batch] = {};
+      index_t slot[batch] = {};
+      float coef[batch] = {};
+      Vec3f f[batch] = {};
 TEAR_UNROLL
-      for (int j = 0; j < gather_batch; ++j)
+      for (int j = 0; j < batch; ++j)
         if (j < count) slot[j] = node_slots[i + j];
 TEAR_UNROLL
-      for (int j = 0; j < gather_batch; ++j)
+      for (int j = 0; j < batch; ++j)
         if (j < count) {
           coef[j] = node_slot_coef[i + j];
           f[j] = load3<float>(constraint_force, constraints.constraint_of_slot(slot[j]));
         }
 TEAR_UNROLL
-      for (int j = 0; j < gather_batch; ++j)
+      for (int j = 0; j < batch; ++j)
         if (j < count) g = g + coef[j] * f[j];
     }
     const Vec3f x_hat = x + (1.0f / diag) * g;

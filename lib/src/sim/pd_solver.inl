@@ -93,7 +93,9 @@ inline constexpr int persistent_block = 256;  ///< threads per block of the pers
 /// block in equal runs rather than to the first blocks only, so that the gather's loads, the
 /// longest chain of an iteration, are spread over every multiprocessor's caches and load units
 /// (H100, 100 iterations: 0.76 → 0.69 ms at 2,822 faces, whose 1,486 nodes the first 6 of 34
-/// blocks gathered; 1.15 → 0.88 ms at 38,298 faces).
+/// blocks gathered; 1.15 → 0.88 ms at 38,298 faces). Each node's gather issues 16 slots' loads at
+/// a time, where the graph's large meshes take 8 (9,022 faces 0.69 → 0.65 ms; 8 keeps 2M faces at
+/// 23.5 ms, which 16 made 25.5).
 __global__ void two_pass_substep_kernel(SubstepKernels s) {
   cooperative_groups::grid_group grid = cooperative_groups::this_grid();
   const index_t first = static_cast<index_t>(blockIdx.x * blockDim.x + threadIdx.x);
@@ -110,7 +112,7 @@ __global__ void two_pass_substep_kernel(SubstepKernels s) {
     s.iteration(k, cur, prev, next);
     for (index_t c = first; c < s.constraint_count; c += stride) s.project(c);
     grid.sync();
-    for (index_t n = node_first; n < node_end; n += node_stride) s.update(n);
+    for (index_t n = node_first; n < node_end; n += node_stride) s.update.update<16>(n);
     grid.sync();
     rotate_iterates(cur, prev, next);
   }
