@@ -120,10 +120,8 @@ __global__ void two_pass_substep_kernel(SubstepKernels s) {
   for (index_t n = node_first; n < node_end; n += node_stride) s.finish(n);
 }
 
-/// Lanes that share one node's update in the one-pass kernel, and the products each lane holds
-/// before the group sums them.
-inline constexpr int group_lanes = 8;
-inline constexpr int group_rounds = 4;
+/// Slots of a node whose products the lanes of its group hold before the group sums them.
+inline constexpr int group_chunk = 32;
 
 /// One Jacobi-Chebyshev update of node n (`active`) by a group of `group_lanes` lanes: each lane
 /// computes the forces of some of the node's constraints itself (`compute_constraint_force`, as
@@ -131,8 +129,10 @@ inline constexpr int group_rounds = 4;
 /// through shuffles, so the result is the bits of `jacobi_chebyshev_update` after
 /// `project_constraints`, without the forces' trip through memory and the barrier between them.
 /// Every lane of the warp calls it the same number of times (inactive groups too).
+template <int group_lanes>
 __device__ void group_update(const kernels::jacobi_chebyshev_update& u, index_t n, bool active) {
   using kernels::Vec3f;
+  constexpr int group_rounds = group_chunk / group_lanes;
   const int lane = static_cast<int>(threadIdx.x) % group_lanes;
   index_t begin = 0, count = 0;
   Vec3f x{0, 0, 0}, s{0, 0, 0}, g{0, 0, 0};
@@ -143,7 +143,7 @@ __device__ void group_update(const kernels::jacobi_chebyshev_update& u, index_t 
     s = kernels::load3<float>(u.node_pred, n);
     g = (u.node_mass[n] * u.inv_h2) * (s - x);
   }
-  constexpr int chunk = group_lanes * group_rounds;
+  constexpr int chunk = group_chunk;
   const int chunks = __reduce_max_sync(0xffffffffu, static_cast<unsigned>((count + chunk - 1) / chunk));
   for (int c = 0; c < chunks; ++c) {
     Vec3f product[group_rounds];
@@ -183,8 +183,9 @@ __device__ void group_update(const kernels::jacobi_chebyshev_update& u, index_t 
 }
 
 /// The whole substep in one cooperative kernel with one pass and one grid barrier per iteration:
-/// each node updated by a group of lanes (`group_update`). The nodes are dealt to the blocks in
-/// equal runs, as in `two_pass_substep_kernel`.
+/// each node updated by a group of `group_lanes` lanes (`group_update`). The nodes are dealt to the
+/// blocks in equal runs, as in `two_pass_substep_kernel`.
+template <int group_lanes>
 __global__ void one_pass_substep_kernel(SubstepKernels s) {
   cooperative_groups::grid_group grid = cooperative_groups::this_grid();
   const index_t node_run = (s.node_count + static_cast<index_t>(gridDim.x) - 1) / static_cast<index_t>(gridDim.x);
@@ -201,7 +202,7 @@ __global__ void one_pass_substep_kernel(SubstepKernels s) {
     s.iteration(k, cur, prev, next);
     for (index_t r = 0; r < rounds; ++r) {
       const index_t n = node_begin + r * groups + group;
-      group_update(s.update, n, n < node_end);
+      group_update<group_lanes>(s.update, n, n < node_end);
     }
     grid.sync();
     rotate_iterates(cur, prev, next);
@@ -399,6 +400,7 @@ class PdSolverOn final : public PdSolver::Impl {
   struct PersistentLaunch {
     enum class Kind { none, one_pass, two_pass } kind = Kind::none;  // none: as `graph`
     int blocks = 0;
+    int lanes = 0;  // per node, one pass
   };
   PersistentLaunch persistent_launch() const;
   /// Runs `count` substeps as persistent kernels; false where they are not used.
@@ -617,7 +619,8 @@ namespace {
 /// The blocks of each cooperative substep kernel the device holds at once, asked once per device
 /// (a solver is rebuilt after every tear); 0 where cooperative launches are not available.
 struct ResidentBlocks {
-  long long two_pass = 0, one_pass = 0;
+  long long two_pass = 0, one_pass_16 = 0, one_pass_8 = 0;
+  int sms = 0;
 };
 
 ResidentBlocks resident_blocks() {
@@ -632,14 +635,17 @@ ResidentBlocks resident_blocks() {
   auto found = known.find(device);
   if (found != known.end()) return found->second;
   ResidentBlocks resident;
-  int cooperative = 0, sms = 0, two_pass = 0, one_pass = 0;
+  int cooperative = 0, sms = 0, two_pass = 0, one_pass_16 = 0, one_pass_8 = 0;
   if (cudaDeviceGetAttribute(&cooperative, cudaDevAttrCooperativeLaunch, device) == cudaSuccess && cooperative &&
       cudaDeviceGetAttribute(&sms, cudaDevAttrMultiProcessorCount, device) == cudaSuccess &&
       cudaOccupancyMaxActiveBlocksPerMultiprocessor(&two_pass, two_pass_substep_kernel, persistent_block, 0) ==
           cudaSuccess &&
-      cudaOccupancyMaxActiveBlocksPerMultiprocessor(&one_pass, one_pass_substep_kernel, persistent_block, 0) ==
+      cudaOccupancyMaxActiveBlocksPerMultiprocessor(&one_pass_16, one_pass_substep_kernel<16>, persistent_block, 0) ==
+          cudaSuccess &&
+      cudaOccupancyMaxActiveBlocksPerMultiprocessor(&one_pass_8, one_pass_substep_kernel<8>, persistent_block, 0) ==
           cudaSuccess)
-    resident = {static_cast<long long>(sms) * two_pass, static_cast<long long>(sms) * one_pass};
+    resident = {static_cast<long long>(sms) * two_pass, static_cast<long long>(sms) * one_pass_16,
+                static_cast<long long>(sms) * one_pass_8, sms};
   cudaGetLastError();  // clear the error of a refused query
   known.emplace(device, resident);
   return resident;
@@ -656,21 +662,25 @@ typename PdSolverOn<Cuda>::PersistentLaunch PdSolverOn<Cuda>::persistent_launch(
   };
   // One pass: a group of lanes per node, each group computing the node's constraints' forces
   // itself, three times the local step's arithmetic for one barrier an iteration instead of two
-  // and no forces through memory. Measured on an H100 (100 iterations): faster while the groups
-  // fill at most a quarter of the resident threads (1,486 nodes 0.69 → 0.57 ms, 4,646 nodes 0.71 →
-  // 0.65 ms), slower beyond (19,426 nodes 0.88 → 1.28 ms: the arithmetic then fills the device).
-  const long long group_threads = static_cast<long long>(node_count_) * group_lanes;
-  if (resident.one_pass > 0 &&
-      (launch_mode_ == LaunchMode::one_pass ||
-       (launch_mode_ == LaunchMode::persistent && 4 * group_threads <= resident.one_pass * persistent_block)))
-    return {Kind::one_pass, blocks_for(group_threads, resident.one_pass)};
+  // and no forces through memory. It wins while the device waits on latency, up to about 256
+  // lanes per multiprocessor: 16 lanes a node where they fit, else 8, else two passes. Measured on
+  // an H100 (132 multiprocessors), ms per 100 iterations, 16 lanes / 8 lanes / two passes: 1,486
+  // nodes 0.47 / 0.59 / 0.65; 4,646 nodes 0.87 / 0.65 / 0.66; 10,201 nodes 1.19 / 0.80 / 0.72;
+  // 19,426 nodes 1.84 / 1.29 / 0.89.
+  const long long lane_budget = 256LL * resident.sms;
+  const long long nodes = node_count_;
+  if (resident.one_pass_16 > 0 && resident.one_pass_8 > 0 &&
+      (launch_mode_ == LaunchMode::one_pass || (launch_mode_ == LaunchMode::persistent && 8 * nodes <= lane_budget))) {
+    if (16 * nodes <= lane_budget) return {Kind::one_pass, blocks_for(16 * nodes, resident.one_pass_16), 16};
+    return {Kind::one_pass, blocks_for(8 * nodes, resident.one_pass_8), 8};
+  }
   if (resident.two_pass == 0) return {};
   // Two passes: only while each thread has at most a few elements per pass; on larger meshes
   // separate launches, replayed as a graph, measured faster (H100: 4.2 against 3.7 ms per 100
   // iterations at 131,797 nodes, 1.3 against 1.8 ms at 19,426).
   const long long work = node_count_ > constraint_count_ ? node_count_ : constraint_count_;
   if (launch_mode_ == LaunchMode::persistent && work > 4 * resident.two_pass * persistent_block) return {};
-  return {Kind::two_pass, blocks_for(work, resident.two_pass)};
+  return {Kind::two_pass, blocks_for(work, resident.two_pass), 0};
 }
 #endif
 
@@ -684,9 +694,10 @@ bool PdSolverOn<System>::step_persistent(int count) {
 #if TEAR_CUDA_SYSTEM
   SubstepKernels s = substep_kernels(raw<float>(omega_));
   void* args[] = {&s};
-  const void* kernel = persistent_.kind == PersistentLaunch::Kind::one_pass
-                           ? reinterpret_cast<const void*>(one_pass_substep_kernel)
-                           : reinterpret_cast<const void*>(two_pass_substep_kernel);
+  const void* kernel = persistent_.kind == PersistentLaunch::Kind::two_pass
+                           ? reinterpret_cast<const void*>(two_pass_substep_kernel)
+                           : persistent_.lanes == 16 ? reinterpret_cast<const void*>(one_pass_substep_kernel<16>)
+                                                     : reinterpret_cast<const void*>(one_pass_substep_kernel<8>);
   for (int i = 0; i < count; ++i) {
     const cudaError_t status =
         cudaLaunchCooperativeKernel(kernel, dim3(persistent_.blocks), dim3(persistent_block), args, 0, 0);
