@@ -570,7 +570,9 @@ TEST_CASE("simulation: every way of launching a step gives the same bits", "[sim
   // On the GPU: one cooperative kernel per substep, with one pass an iteration (a group of lanes
   // per node computing its constraints' forces) or two (constraints, then nodes), a replayed CUDA
   // graph, or every kernel on its own (TEAR_CUDA_LAUNCH); on the CPU they are one path, so two of
-  // them are enough there. The default picks one pass on the small sheet and two on the larger.
+  // them are enough there. The default picks one pass on the small sheet and two on the larger; the
+  // fan's centre has 80 slots, more than a lane group holds at once (32), so its sum runs in
+  // chunks.
   SimulationOptions o;
   o.substeps = 2;
   o.iterations = 25;
@@ -579,8 +581,19 @@ TEST_CASE("simulation: every way of launching a step gives the same bits", "[sim
   constexpr int mode_count = 5;
   const char* modes[mode_count] = {"persistent", "one-pass", "two-pass", "graph", "plain"};
   const int modes_run = tear::test::test_device() == tear::Device::cuda ? mode_count : 2;
-  for (const index_t faces : {800, 40000}) {
-    const tear::Mesh mesh = horizontal_sheet(faces, true);
+  // A fan of 40 faces around one node, lying in the sheets' plane (y = 0), slightly domed.
+  tear::Mesh fan;
+  constexpr int fan_faces = 40;
+  fan.node_pos = {0.5f, 0.05f, 0.5f};
+  for (int i = 0; i < fan_faces; ++i) {
+    const double a = 2 * 3.14159265358979 * i / fan_faces;
+    fan.node_pos.insert(fan.node_pos.end(), {static_cast<float>(0.5 + 0.4 * std::cos(a)), 0.0f,
+                                             static_cast<float>(0.5 + 0.4 * std::sin(a))});
+    fan.face_nodes.insert(fan.face_nodes.end(), {0, 1 + (i + 1) % fan_faces, 1 + i});
+  }
+  const tear::Mesh meshes[] = {horizontal_sheet(800, true), horizontal_sheet(40000, true), fan};
+  for (const tear::Mesh& mesh : meshes) {
+    const index_t faces = mesh.face_count();
     std::vector<float> pos[mode_count], vel[mode_count];
     for (int m = 0; m < modes_run; ++m) {
       tear::test::ScopedEnvironment mode("TEAR_CUDA_LAUNCH", modes[m]);

@@ -94,7 +94,7 @@ inline constexpr int persistent_block = 256;  ///< threads per block of the pers
 /// longest chain of an iteration, are spread over every multiprocessor's caches and load units
 /// (H100, 100 iterations: 0.76 → 0.69 ms at 2,822 faces, whose 1,486 nodes the first 6 of 34
 /// blocks gathered; 1.15 → 0.88 ms at 38,298 faces). Each node's gather issues 16 slots' loads at
-/// a time, where the graph's large meshes take 8 (9,022 faces 0.69 → 0.65 ms; 8 keeps 2M faces at
+/// a time, where the graph's large meshes take 8 (9,022 faces 0.71 → 0.66 ms; 8 keeps 2M faces at
 /// 23.5 ms, which 16 made 25.5).
 __global__ void two_pass_substep_kernel(SubstepKernels s) {
   cooperative_groups::grid_group grid = cooperative_groups::this_grid();
