@@ -136,7 +136,7 @@ struct jacobi_chebyshev_update {
       store3(node_iter_next, n, s);
       return;
     }
-    Vec3f g = (node_mass[n] * inv_h2) * (s - x);
+    Vec3f g = inertial_term(n, x, s);
     const index_t end = node_slot_offset[n + 1];
     for (index_t i = node_slot_offset[n]; i < end; i += batch) {
       const int count = end - i < batch ? static_cast<int>(end - i) : batch;
@@ -157,9 +157,27 @@ TEAR_UNROLL
       for (int j = 0; j < batch; ++j)
         if (j < count) g = g + coef[j] * f[j];
     }
+    store3(node_iter_next, n, accelerated(n, x, diag, g));
+  }
+
+  // The update's two ends, shared with the CUDA solver's one-pass kernel, which sums g its own way.
+  /// The sum's first term, m/h² (s − x).
+  TEAR_HD Vec3f inertial_term(index_t n, const Vec3f& x, const Vec3f& s) const {
+    return (node_mass[n] * inv_h2) * (s - x);
+  }
+  /// x⁽ᵏ⁺¹⁾ from the summed g of a free node with a positive diagonal: the Jacobi step, then
+  /// Chebyshev's.
+  TEAR_HD Vec3f accelerated(index_t n, const Vec3f& x, float diag, const Vec3f& g) const {
     const Vec3f x_hat = x + (1.0f / diag) * g;
     const Vec3f x_prev = load3<float>(node_iter_prev, n);
-    store3(node_iter_next, n, omega * (gamma * (x_hat - x) + x - x_prev) + x_prev);
+    return omega * (gamma * (x_hat - x) + x - x_prev) + x_prev;
+  }
+  /// x⁽ᵏ⁺¹⁾ of any node from its summed g: x for a pinned node, s for one without a positive
+  /// diagonal, else `accelerated`.
+  TEAR_HD Vec3f next_from_sum(index_t n, const Vec3f& x, const Vec3f& s, const Vec3f& g) const {
+    if (node_pinned[n]) return x;
+    const float diag = node_diag[n];
+    return diag > 0.0f ? accelerated(n, x, diag, g) : s;
   }
 };
 

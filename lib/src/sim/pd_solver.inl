@@ -87,6 +87,16 @@ TEAR_HD inline void rotate_iterates(int& cur, int& prev, int& next) {
 #if TEAR_CUDA_SYSTEM
 inline constexpr int persistent_block = 256;  ///< threads per block of the persistent kernel
 
+/// The nodes a block of a cooperative substep kernel takes: an equal run each, [begin, end).
+struct BlockNodes {
+  index_t run, begin, end;
+};
+__device__ inline BlockNodes block_nodes(index_t node_count) {
+  const index_t run = (node_count + static_cast<index_t>(gridDim.x) - 1) / static_cast<index_t>(gridDim.x);
+  const index_t begin = static_cast<index_t>(blockIdx.x) * run;
+  return {run, begin, begin + run < node_count ? begin + run : node_count};
+}
+
 /// The whole substep in one cooperative kernel: each pass a loop over its elements calling the
 /// same functor as its own launch would, the grid synchronised between passes. The grid is sized
 /// for the constraints (the larger pass); the nodes, a third as many or fewer, are dealt to every
@@ -100,24 +110,22 @@ __global__ void two_pass_substep_kernel(SubstepKernels s) {
   cooperative_groups::grid_group grid = cooperative_groups::this_grid();
   const index_t first = static_cast<index_t>(blockIdx.x * blockDim.x + threadIdx.x);
   const index_t stride = static_cast<index_t>(gridDim.x * blockDim.x);
-  const index_t node_run = (s.node_count + static_cast<index_t>(gridDim.x) - 1) / static_cast<index_t>(gridDim.x);
-  const index_t node_begin = static_cast<index_t>(blockIdx.x) * node_run;
-  const index_t node_end = node_begin + node_run < s.node_count ? node_begin + node_run : s.node_count;
-  const index_t node_first = node_begin + static_cast<index_t>(threadIdx.x);
+  const BlockNodes nodes = block_nodes(s.node_count);
+  const index_t node_first = nodes.begin + static_cast<index_t>(threadIdx.x);
   const index_t node_stride = static_cast<index_t>(blockDim.x);
-  for (index_t n = node_first; n < node_end; n += node_stride) s.predict(n);
+  for (index_t n = node_first; n < nodes.end; n += node_stride) s.predict(n);
   grid.sync();
   int cur = 0, prev = 1, next = 2;
   for (int k = 0; k < s.iterations; ++k) {
     s.iteration(k, cur, prev, next);
     for (index_t c = first; c < s.constraint_count; c += stride) s.project(c);
     grid.sync();
-    for (index_t n = node_first; n < node_end; n += node_stride) s.update.update<16>(n);
+    for (index_t n = node_first; n < nodes.end; n += node_stride) s.update.update<16>(n);
     grid.sync();
     rotate_iterates(cur, prev, next);
   }
   s.finish_from(cur);
-  for (index_t n = node_first; n < node_end; n += node_stride) s.finish(n);
+  for (index_t n = node_first; n < nodes.end; n += node_stride) s.finish(n);
 }
 
 /// Slots of a node whose products the lanes of its group hold before the group sums them.
@@ -141,15 +149,15 @@ __device__ void group_update(const kernels::jacobi_chebyshev_update& u, index_t 
     begin = u.node_slot_offset[n];
     count = u.node_slot_offset[n + 1] - begin;
     s = kernels::load3<float>(u.node_pred, n);
-    g = (u.node_mass[n] * u.inv_h2) * (s - x);
+    g = u.inertial_term(n, x, s);
   }
-  constexpr int chunk = group_chunk;
-  const int chunks = __reduce_max_sync(0xffffffffu, static_cast<unsigned>((count + chunk - 1) / chunk));
+  const int chunks =
+      __reduce_max_sync(0xffffffffu, static_cast<unsigned>((count + group_chunk - 1) / group_chunk));
   for (int c = 0; c < chunks; ++c) {
     Vec3f product[group_rounds];
 #pragma unroll
     for (int r = 0; r < group_rounds; ++r) {
-      const index_t j = c * chunk + r * group_lanes + lane;
+      const index_t j = c * group_chunk + r * group_lanes + lane;
       product[r] = Vec3f{0, 0, 0};
       if (j < count) {
         const index_t slot = u.node_slots[begin + j];
@@ -164,22 +172,10 @@ __device__ void group_update(const kernels::jacobi_chebyshev_update& u, index_t 
         const Vec3f p{__shfl_sync(0xffffffffu, product[r].x, l, group_lanes),
                       __shfl_sync(0xffffffffu, product[r].y, l, group_lanes),
                       __shfl_sync(0xffffffffu, product[r].z, l, group_lanes)};
-        if (c * chunk + r * group_lanes + l < count) g = g + p;
+        if (c * group_chunk + r * group_lanes + l < count) g = g + p;
       }
   }
-  if (!active || lane != 0) return;
-  Vec3f next = x;
-  if (!u.node_pinned[n]) {
-    const float diag = u.node_diag[n];
-    if (!(diag > 0.0f)) {
-      next = s;
-    } else {
-      const Vec3f x_hat = x + (1.0f / diag) * g;
-      const Vec3f x_prev = kernels::load3<float>(u.node_iter_prev, n);
-      next = u.omega * (u.gamma * (x_hat - x) + x - x_prev) + x_prev;
-    }
-  }
-  kernels::store3(u.node_iter_next, n, next);
+  if (active && lane == 0) kernels::store3(u.node_iter_next, n, u.next_from_sum(n, x, s, g));
 }
 
 /// The whole substep in one cooperative kernel with one pass and one grid barrier per iteration:
@@ -188,28 +184,26 @@ __device__ void group_update(const kernels::jacobi_chebyshev_update& u, index_t 
 template <int group_lanes>
 __global__ void one_pass_substep_kernel(SubstepKernels s) {
   cooperative_groups::grid_group grid = cooperative_groups::this_grid();
-  const index_t node_run = (s.node_count + static_cast<index_t>(gridDim.x) - 1) / static_cast<index_t>(gridDim.x);
-  const index_t node_begin = static_cast<index_t>(blockIdx.x) * node_run;
-  const index_t node_end = node_begin + node_run < s.node_count ? node_begin + node_run : s.node_count;
-  for (index_t n = node_begin + static_cast<index_t>(threadIdx.x); n < node_end; n += static_cast<index_t>(blockDim.x))
-    s.predict(n);
+  const BlockNodes nodes = block_nodes(s.node_count);
+  const index_t node_first = nodes.begin + static_cast<index_t>(threadIdx.x);
+  const index_t node_stride = static_cast<index_t>(blockDim.x);
+  for (index_t n = node_first; n < nodes.end; n += node_stride) s.predict(n);
   grid.sync();
   const index_t groups = static_cast<index_t>(blockDim.x) / group_lanes;
-  const index_t rounds = (node_run + groups - 1) / groups;  // the same in every block: warps stay whole
+  const index_t rounds = (nodes.run + groups - 1) / groups;  // the same in every block: warps stay whole
   const index_t group = static_cast<index_t>(threadIdx.x) / group_lanes;
   int cur = 0, prev = 1, next = 2;
   for (int k = 0; k < s.iterations; ++k) {
     s.iteration(k, cur, prev, next);
     for (index_t r = 0; r < rounds; ++r) {
-      const index_t n = node_begin + r * groups + group;
-      group_update<group_lanes>(s.update, n, n < node_end);
+      const index_t n = nodes.begin + r * groups + group;
+      group_update<group_lanes>(s.update, n, n < nodes.end);
     }
     grid.sync();
     rotate_iterates(cur, prev, next);
   }
   s.finish_from(cur);
-  for (index_t n = node_begin + static_cast<index_t>(threadIdx.x); n < node_end; n += static_cast<index_t>(blockDim.x))
-    s.finish(n);
+  for (index_t n = node_first; n < nodes.end; n += node_stride) s.finish(n);
 }
 #endif
 
