@@ -61,28 +61,52 @@ struct predict_positions {
   }
 };
 
-/// Local step of constraint c at the iterate x: f_c = w_c (p_c − A_c x), the constraint's pull
-/// towards its projection p_c (pd_math.h `project_length`): newtons for a spring.
-TEAR_HD inline Vec3f compute_constraint_force(const PdConstraints& constraints, const float* node_iter, index_t c) {
-  Vec3f d{0, 0, 0};
+/// Constraint c as the local step reads it: up to four nodes with their coefficients (a spring's
+/// two nodes with +1 and −1, then two unused slots), its rest value and weight. Nothing of it
+/// changes within a substep, so a kernel may read it once and keep it.
+struct ConstraintTerms {
+  index_t node[pd_constraint_nodes];  ///< −1: unused
+  float k[pd_constraint_nodes];
   float rest, weight;
+};
+
+TEAR_HD inline ConstraintTerms constraint_terms(const PdConstraints& constraints, index_t c) {
+  ConstraintTerms t;
   if (c < constraints.edge_count) {
-    const index_t a = constraints.spring_nodes[2 * c], b = constraints.spring_nodes[2 * c + 1];
-    if (a >= 0) d = d + 1.0f * load3<float>(node_iter, a);
-    if (b >= 0) d = d + (-1.0f) * load3<float>(node_iter, b);
-    rest = constraints.spring_rest[c];
-    weight = constraints.spring_weight[c];
+    t.node[0] = constraints.spring_nodes[2 * c];
+    t.node[1] = constraints.spring_nodes[2 * c + 1];
+    t.k[0] = 1.0f;
+    t.k[1] = -1.0f;
+    for (int j = 2; j < pd_constraint_nodes; ++j) {
+      t.node[j] = -1;
+      t.k[j] = 0.0f;
+    }
+    t.rest = constraints.spring_rest[c];
+    t.weight = constraints.spring_weight[c];
   } else {
     const index_t h = c - constraints.edge_count;
     for (int j = 0; j < pd_constraint_nodes; ++j) {
-      const index_t n = constraints.hinge_nodes[pd_constraint_nodes * h + j];
-      if (n >= 0) d = d + constraints.hinge_coef[pd_constraint_nodes * h + j] * load3<float>(node_iter, n);
+      t.node[j] = constraints.hinge_nodes[pd_constraint_nodes * h + j];
+      t.k[j] = constraints.hinge_coef[pd_constraint_nodes * h + j];
     }
-    rest = constraints.hinge_rest[h];
-    weight = constraints.hinge_weight[h];
+    t.rest = constraints.hinge_rest[h];
+    t.weight = constraints.hinge_weight[h];
   }
-  const Vec3f p = project_length(d, rest);
-  return weight * (p - d);
+  return t;
+}
+
+/// Local step of a constraint at the iterate x: f_c = w_c (p_c − A_c x), the constraint's pull
+/// towards its projection p_c (pd_math.h `project_length`): newtons for a spring.
+TEAR_HD inline Vec3f constraint_force(const ConstraintTerms& t, const float* node_iter) {
+  Vec3f d{0, 0, 0};
+  for (int j = 0; j < pd_constraint_nodes; ++j)
+    if (t.node[j] >= 0) d = d + t.k[j] * load3<float>(node_iter, t.node[j]);
+  const Vec3f p = project_length(d, t.rest);
+  return t.weight * (p - d);
+}
+
+TEAR_HD inline Vec3f compute_constraint_force(const PdConstraints& constraints, const float* node_iter, index_t c) {
+  return constraint_force(constraint_terms(constraints, c), node_iter);
 }
 
 /// Local step of every constraint, stored for the global step (`jacobi_chebyshev_update`).
@@ -160,24 +184,30 @@ TEAR_UNROLL
     store3(node_iter_next, n, accelerated(n, x, diag, g));
   }
 
-  // The update's two ends, shared with the CUDA solver's one-pass kernel, which sums g its own way.
+  // The update's two ends, shared with the CUDA solver's one-pass kernel, which sums g its own way
+  // and may hold a node's values (mass, x⁽ᵏ⁻¹⁾, ...) instead of reading them each iteration.
   /// The sum's first term, m/h² (s − x).
-  TEAR_HD Vec3f inertial_term(index_t n, const Vec3f& x, const Vec3f& s) const {
-    return (node_mass[n] * inv_h2) * (s - x);
-  }
+  TEAR_HD Vec3f inertial_term(index_t n, const Vec3f& x, const Vec3f& s) const { return inertial_term_of(node_mass[n], x, s); }
+  TEAR_HD Vec3f inertial_term_of(float mass, const Vec3f& x, const Vec3f& s) const { return (mass * inv_h2) * (s - x); }
   /// x⁽ᵏ⁺¹⁾ from the summed g of a free node with a positive diagonal: the Jacobi step, then
   /// Chebyshev's.
   TEAR_HD Vec3f accelerated(index_t n, const Vec3f& x, float diag, const Vec3f& g) const {
+    return accelerated_from(x, load3<float>(node_iter_prev, n), diag, g);
+  }
+  TEAR_HD Vec3f accelerated_from(const Vec3f& x, const Vec3f& x_prev, float diag, const Vec3f& g) const {
     const Vec3f x_hat = x + (1.0f / diag) * g;
-    const Vec3f x_prev = load3<float>(node_iter_prev, n);
     return omega * (gamma * (x_hat - x) + x - x_prev) + x_prev;
   }
   /// x⁽ᵏ⁺¹⁾ of any node from its summed g: x for a pinned node, s for one without a positive
   /// diagonal, else `accelerated`.
   TEAR_HD Vec3f next_from_sum(index_t n, const Vec3f& x, const Vec3f& s, const Vec3f& g) const {
-    if (node_pinned[n]) return x;
-    const float diag = node_diag[n];
-    return diag > 0.0f ? accelerated(n, x, diag, g) : s;
+    return next_from_held(node_pinned[n] != 0, node_diag[n], x, load3<float>(node_iter_prev, n), s, g);
+  }
+  /// The same from the node's values as a kernel holds them.
+  TEAR_HD Vec3f next_from_held(bool pinned, float diag, const Vec3f& x, const Vec3f& x_prev, const Vec3f& s,
+                               const Vec3f& g) const {
+    if (pinned) return x;
+    return diag > 0.0f ? accelerated_from(x, x_prev, diag, g) : s;
   }
 };
 
