@@ -568,18 +568,18 @@ TEST_CASE("simulation: the state round-trips through the host and the device poi
 
 TEST_CASE("simulation: every way of launching a step gives the same bits", "[simulation]") {
   // On the GPU: one cooperative kernel per substep, with one pass an iteration (a group of lanes
-  // per node computing its constraints' forces) or two (constraints, then nodes), a replayed CUDA
-  // graph, or every kernel on its own (TEAR_CUDA_LAUNCH); on the CPU they are one path, so two of
-  // them are enough there. The default picks one pass on the small sheet and two on the larger; the
-  // fan's centre has 80 slots, more than a lane group holds at once (32), so its sum runs in
-  // chunks.
+  // per node computing its constraints' forces), a block per multiprocessor holding its nodes and
+  // slots in shared memory, or two passes (constraints, then nodes), a replayed CUDA graph, or every
+  // kernel on its own (TEAR_CUDA_LAUNCH); on the CPU they are one path, so two of them are enough
+  // there. The fan's centre has 80 slots, more than a lane group holds at once (32), so its sum runs
+  // in chunks, and its warp does not keep its slots in registers.
   SimulationOptions o;
   o.substeps = 2;
   o.iterations = 25;
   o.pins = {edge_pin()};
   o.colliders = {tear::Collider{tear::Collider::Kind::sphere, {0.5, -0.4, 0.3}, {0, 1, 0}, 0.2, {}}};
-  constexpr int mode_count = 5;
-  const char* modes[mode_count] = {"persistent", "one-pass", "two-pass", "graph", "plain"};
+  constexpr int mode_count = 6;
+  const char* modes[mode_count] = {"persistent", "one-pass", "shared", "two-pass", "graph", "plain"};
   const int modes_run = tear::test::test_device() == tear::Device::cuda ? mode_count : 2;
   // A fan of 40 faces around one node, lying in the sheets' plane (y = 0), slightly domed.
   tear::Mesh fan;
@@ -615,7 +615,7 @@ TEST_CASE("simulation: every way of launching a step gives the same bits", "[sim
     PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
     FAIL("expected an error");
   } catch (const tear::Error& e) {
-    CHECK(std::string(e.what()) == "TEAR_CUDA_LAUNCH=fast: expected persistent, one-pass, two-pass, graph or plain");
+    CHECK(std::string(e.what()) == "TEAR_CUDA_LAUNCH=fast: expected persistent, one-pass, shared, two-pass, graph or plain");
   }
 }
 

@@ -1,6 +1,7 @@
 // The projective dynamics solver on either backend: the model is built once per mesh (topology,
 // masses, constraints, node→constraint CSR, Jacobi diagonal), then each step is a fixed sequence of
 // kernel launches with no read-back, so a CUDA step queues without waiting.
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <map>
@@ -30,14 +31,17 @@ namespace tear::backend {
 
 /// How the CUDA backend launches a substep, from TEAR_CUDA_LAUNCH: `persistent` (the default: one
 /// cooperative kernel runs the whole substep, as `one-pass` on a mesh of a few thousand nodes, as
-/// `two-pass` on a mesh the resident threads cover in a few rounds, else as `graph`), `one-pass`
-/// (one cooperative kernel, each iteration one pass and one grid barrier: a group of lanes per
-/// node computes its constraints' forces and sums them), `two-pass` (one cooperative kernel, each
-/// iteration a pass over the constraints and one over the nodes, the grid synchronising between
-/// them), `graph` (the substep's launches recorded once as a CUDA graph and replayed) or `plain`
-/// (every kernel launched on its own). Where the device has no cooperative launch the first three
-/// run as `graph`. All of them compute the same operations in the same order: the same bits.
-enum class LaunchMode { persistent, one_pass, two_pass, graph, plain };
+/// `shared` on one whose blocks' shares fit in shared memory, as `two-pass` on a mesh the resident
+/// threads cover in a few rounds, else as `graph`), `one-pass` (one cooperative kernel, each
+/// iteration one pass and one grid barrier: a group of lanes per node computes its constraints'
+/// forces and sums them), `shared` (one cooperative kernel, a block per multiprocessor holding its
+/// run of nodes and their constraints in shared memory; as `two-pass` where they do not fit),
+/// `two-pass` (one cooperative kernel, each iteration a pass over the constraints and one over the
+/// nodes, the grid synchronising between them), `graph` (the substep's launches recorded once as a
+/// CUDA graph and replayed) or `plain` (every kernel launched on its own). Where the device has no
+/// cooperative launch the first four run as `graph`. All of them compute the same operations in the
+/// same order: the same bits.
+enum class LaunchMode { persistent, one_pass, shared, two_pass, graph, plain };
 
 inline LaunchMode launch_mode() {
   const char* setting = std::getenv("TEAR_CUDA_LAUNCH");
@@ -45,10 +49,11 @@ inline LaunchMode launch_mode() {
   const std::string mode = setting;
   if (mode == "persistent") return LaunchMode::persistent;
   if (mode == "one-pass") return LaunchMode::one_pass;
+  if (mode == "shared") return LaunchMode::shared;
   if (mode == "two-pass") return LaunchMode::two_pass;
   if (mode == "graph") return LaunchMode::graph;
   if (mode == "plain") return LaunchMode::plain;
-  throw runtime_error("TEAR_CUDA_LAUNCH=" + mode + ": expected persistent, one-pass, two-pass, graph or plain");
+  throw runtime_error("TEAR_CUDA_LAUNCH=" + mode + ": expected persistent, one-pass, shared, two-pass, graph or plain");
 }
 
 /// The kernels of one substep with their arguments, built in one place for every way of launching
@@ -288,6 +293,89 @@ __global__ void one_pass_substep_kernel(SubstepKernels s) {
   s.finish_from(cur);
   for (index_t n = node_first; n < nodes.end; n += node_stride) s.finish(n);
 }
+
+/// Threads per block of the shared-memory substep kernel: one block per multiprocessor.
+inline constexpr int shared_block = 1024;
+
+/// A slot as a block of the shared-memory kernel holds it: its constraint's terms and its
+/// coefficient.
+struct SharedSlot {
+  kernels::ConstraintTerms terms;
+  float coef;
+};
+/// A node as that block holds it: its prediction and last two iterates, mass, diagonal, pin, and
+/// its slots' range in the block's slots.
+struct SharedNode {
+  kernels::Vec3f s, x, x_prev;
+  float mass, diag;
+  index_t slot_begin, slot_end;
+  std::int32_t pinned;
+};
+
+/// Shared memory a block of the shared-memory kernel needs for `slots` slots and `nodes` nodes.
+inline std::size_t shared_bytes(long long slots, long long nodes) {
+  return static_cast<std::size_t>(slots) * (sizeof(SharedSlot) + sizeof(kernels::Vec3f)) +
+         static_cast<std::size_t>(nodes) * sizeof(SharedNode);
+}
+
+/// The whole substep in one cooperative kernel, each block holding its run of nodes and their
+/// slots in shared memory for the substep (the model does not change within one): a block's nodes
+/// are consecutive, so their slots are one run of the CSR. Each iteration computes the products
+/// coefficient × force of the block's slots (`constraint_force`, as the local step would), synchronises
+/// the block, sums each node's products in slot order into its update (the bits of
+/// `jacobi_chebyshev_update`) and synchronises the grid: the only loads from memory an iteration
+/// makes are its slots' nodes' positions.
+__global__ void __launch_bounds__(shared_block, 1) shared_substep_kernel(SubstepKernels s) {
+  using kernels::Vec3f;
+  cooperative_groups::grid_group grid = cooperative_groups::this_grid();
+  extern __shared__ __align__(16) unsigned char shared_held[];
+  const BlockNodes nodes = block_nodes(s.node_count);
+  const index_t first = static_cast<index_t>(threadIdx.x), stride = static_cast<index_t>(blockDim.x);
+  for (index_t n = nodes.begin + first; n < nodes.end; n += stride) s.predict(n);
+  grid.sync();
+  int cur = 0, prev = 1, next = 2;
+  s.iteration(0, cur, prev, next);
+  const index_t node_count = nodes.end > nodes.begin ? nodes.end - nodes.begin : 0;
+  const index_t slot_base = node_count > 0 ? s.update.node_slot_offset[nodes.begin] : 0;
+  const index_t slot_count = node_count > 0 ? s.update.node_slot_offset[nodes.end] - slot_base : 0;
+  SharedSlot* slots = reinterpret_cast<SharedSlot*>(shared_held);
+  Vec3f* products = reinterpret_cast<Vec3f*>(slots + slot_count);
+  SharedNode* held = reinterpret_cast<SharedNode*>(products + slot_count);
+  {
+    const kernels::jacobi_chebyshev_update& u = s.update;
+    for (index_t i = first; i < slot_count; i += stride)
+      slots[i] = {kernels::constraint_terms(u.constraints, u.constraints.constraint_of_slot(u.node_slots[slot_base + i])),
+                  u.node_slot_coef[slot_base + i]};
+    for (index_t j = first; j < node_count; j += stride) {
+      const index_t n = nodes.begin + j;
+      held[j] = {kernels::load3<float>(u.node_pred, n),      kernels::load3<float>(u.node_iter, n),
+                 kernels::load3<float>(u.node_iter_prev, n), u.node_mass[n],
+                 u.node_diag[n],                             u.node_slot_offset[n] - slot_base,
+                 u.node_slot_offset[n + 1] - slot_base,      u.node_pinned[n]};
+    }
+  }
+  __syncthreads();
+  for (int k = 0; k < s.iterations; ++k) {
+    s.iteration(k, cur, prev, next);
+    const kernels::jacobi_chebyshev_update& u = s.update;
+    for (index_t i = first; i < slot_count; i += stride)
+      products[i] = slots[i].coef * kernels::constraint_force(slots[i].terms, u.node_iter);
+    __syncthreads();
+    for (index_t j = first; j < node_count; j += stride) {
+      SharedNode& v = held[j];
+      Vec3f g = u.inertial_term_of(v.mass, v.x, v.s);
+      for (index_t i = v.slot_begin; i < v.slot_end; ++i) g = g + products[i];
+      const Vec3f x_next = u.next_from_held(v.pinned != 0, v.diag, v.x, v.x_prev, v.s, g);
+      kernels::store3(u.node_iter_next, nodes.begin + j, x_next);
+      v.x_prev = v.x;
+      v.x = x_next;
+    }
+    grid.sync();
+    rotate_iterates(cur, prev, next);
+  }
+  s.finish_from(cur);
+  for (index_t n = nodes.begin + first; n < nodes.end; n += stride) s.finish(n);
+}
 #endif
 
 template <class System>
@@ -475,9 +563,10 @@ class PdSolverOn final : public PdSolver::Impl {
   void enqueue_substep(const Policy& policy);
   /// How a substep runs as one cooperative kernel on this mesh and device.
   struct PersistentLaunch {
-    enum class Kind { none, one_pass, two_pass } kind = Kind::none;  // none: as `graph`
+    enum class Kind { none, one_pass, shared, two_pass } kind = Kind::none;  // none: as `graph`
     int blocks = 0;
-    int lanes = 0;  // per node, one pass
+    int lanes = 0;           // per node, one pass
+    std::size_t bytes = 0;   // of shared memory per block, shared
   };
   PersistentLaunch persistent_launch() const;
   /// Runs `count` substeps as persistent kernels; false where they are not used.
@@ -698,6 +787,7 @@ namespace {
 struct ResidentBlocks {
   long long two_pass = 0, one_pass_16 = 0, one_pass_8 = 0;
   int sms = 0;
+  std::size_t shared_bytes = 0;  // the most a block of the shared-memory kernel may take; 0: none
 };
 
 ResidentBlocks resident_blocks() {
@@ -723,6 +813,10 @@ ResidentBlocks resident_blocks() {
           cudaSuccess)
     resident = {static_cast<long long>(sms) * two_pass, static_cast<long long>(sms) * one_pass_16,
                 static_cast<long long>(sms) * one_pass_8, sms};
+  int optin = 0;
+  if (resident.sms > 0 && cudaDeviceGetAttribute(&optin, cudaDevAttrMaxSharedMemoryPerBlockOptin, device) == cudaSuccess &&
+      cudaFuncSetAttribute(shared_substep_kernel, cudaFuncAttributeMaxDynamicSharedMemorySize, optin) == cudaSuccess)
+    resident.shared_bytes = static_cast<std::size_t>(optin);
   cudaGetLastError();  // clear the error of a refused query
   known.emplace(device, resident);
   return resident;
@@ -740,10 +834,11 @@ typename PdSolverOn<Cuda>::PersistentLaunch PdSolverOn<Cuda>::persistent_launch(
   // One pass: a group of lanes per node, each group computing the node's constraints' forces
   // itself, three times the local step's arithmetic for one barrier an iteration instead of two
   // and no forces through memory. It wins while the device waits on latency, up to about 256
-  // lanes per multiprocessor: 16 lanes a node where they fit, else 8, else two passes. Measured on
-  // an H100 (132 multiprocessors), ms per 100 iterations, 16 lanes / 8 lanes / two passes: 1,486
-  // nodes 0.47 / 0.59 / 0.65; 4,646 nodes 0.87 / 0.65 / 0.66; 10,201 nodes 1.19 / 0.80 / 0.72;
-  // 19,426 nodes 1.84 / 1.29 / 0.89.
+  // lanes per multiprocessor: 16 lanes a node where they fit, else 8, else shared memory. Measured
+  // on an H100 (132 multiprocessors), ms per 100 iterations, 16 lanes / 8 lanes / two passes,
+  // before the groups held their nodes in registers: 1,486 nodes 0.47 / 0.59 / 0.65; 4,646 nodes
+  // 0.87 / 0.65 / 0.66; 10,201 nodes 1.19 / 0.80 / 0.72; 19,426 nodes 1.84 / 1.29 / 0.89. Holding
+  // them, 1,486 nodes take 0.29.
   const long long lane_budget = 256LL * resident.sms;
   const long long nodes = node_count_;
   if (resident.one_pass_16 > 0 && resident.one_pass_8 > 0 &&
@@ -751,12 +846,40 @@ typename PdSolverOn<Cuda>::PersistentLaunch PdSolverOn<Cuda>::persistent_launch(
     if (16 * nodes <= lane_budget) return {Kind::one_pass, blocks_for(16 * nodes, resident.one_pass_16), 16};
     return {Kind::one_pass, blocks_for(8 * nodes, resident.one_pass_8), 8};
   }
+  // Shared memory: each block holds its nodes and their slots (`shared_substep_kernel`), one block
+  // per multiprocessor, where every block's fit (up to about 27,000 nodes of a sheet on an H100's
+  // 227 KiB a block). Measured on an H100, ms per 100 iterations, shared memory against two passes:
+  // 4,646 nodes 0.43 / 0.66; 10,201 nodes 0.51 / 0.72; 19,426 nodes 0.64 / 0.89. At 1,486 nodes
+  // one pass in registers takes 0.29 against its 0.39.
+  if ((launch_mode_ == LaunchMode::shared || launch_mode_ == LaunchMode::persistent) && resident.shared_bytes > 0 &&
+      nodes > 0) {
+    const long long slots = used_slot_count();
+    if (shared_bytes(slots, nodes) <= resident.shared_bytes * static_cast<std::size_t>(resident.sms)) {
+      const long long blocks = nodes < resident.sms ? nodes : resident.sms;
+      const long long run = (nodes + blocks - 1) / blocks;  // as `block_nodes`
+      const std::vector<index_t> offset = to_host<index_t>(node_slot_offset_);
+      std::size_t most = 0;
+      for (long long begin = 0; begin < nodes; begin += run) {
+        const long long end = begin + run < nodes ? begin + run : nodes;
+        most = std::max(most, shared_bytes(offset[end] - offset[begin], end - begin));
+      }
+      int per_sm = 0;
+      if (most <= resident.shared_bytes &&
+          cudaOccupancyMaxActiveBlocksPerMultiprocessor(&per_sm, shared_substep_kernel, shared_block, most) ==
+              cudaSuccess &&
+          per_sm > 0)
+        return {Kind::shared, static_cast<int>(blocks), 0, most};
+      cudaGetLastError();
+    }
+  }
   if (resident.two_pass == 0) return {};
   // Two passes: only while each thread has at most a few elements per pass; on larger meshes
-  // separate launches, replayed as a graph, measured faster (H100: 4.2 against 3.7 ms per 100
-  // iterations at 131,797 nodes, 1.3 against 1.8 ms at 19,426).
+  // separate launches, replayed as a graph, measured faster. H100 (one block of the two-pass kernel
+  // per multiprocessor), ms per 100 iterations, two passes against the graph: 33,131 nodes (5.9
+  // elements a thread) 1.08 against 1.27; 49,595 nodes (8.8) 1.62 against 1.37; 131,797 nodes 4.2
+  // against 3.7.
   const long long work = node_count_ > constraint_count_ ? node_count_ : constraint_count_;
-  if (launch_mode_ == LaunchMode::persistent && work > 4 * resident.two_pass * persistent_block) return {};
+  if (launch_mode_ == LaunchMode::persistent && work > 7 * resident.two_pass * persistent_block) return {};
   return {Kind::two_pass, blocks_for(work, resident.two_pass), 0};
 }
 #endif
@@ -771,13 +894,15 @@ bool PdSolverOn<System>::step_persistent(int count) {
 #if TEAR_CUDA_SYSTEM
   SubstepKernels s = substep_kernels(raw<float>(omega_));
   void* args[] = {&s};
-  const void* kernel = persistent_.kind == PersistentLaunch::Kind::two_pass
-                           ? reinterpret_cast<const void*>(two_pass_substep_kernel)
-                           : persistent_.lanes == 16 ? reinterpret_cast<const void*>(one_pass_substep_kernel<16>)
-                                                     : reinterpret_cast<const void*>(one_pass_substep_kernel<8>);
+  using Kind = typename PersistentLaunch::Kind;
+  const void* kernel = persistent_.kind == Kind::two_pass ? reinterpret_cast<const void*>(two_pass_substep_kernel)
+                       : persistent_.kind == Kind::shared ? reinterpret_cast<const void*>(shared_substep_kernel)
+                       : persistent_.lanes == 16          ? reinterpret_cast<const void*>(one_pass_substep_kernel<16>)
+                                                          : reinterpret_cast<const void*>(one_pass_substep_kernel<8>);
+  const int block = persistent_.kind == Kind::shared ? shared_block : persistent_block;
   for (int i = 0; i < count; ++i) {
-    const cudaError_t status =
-        cudaLaunchCooperativeKernel(kernel, dim3(persistent_.blocks), dim3(persistent_block), args, 0, 0);
+    const cudaError_t status = cudaLaunchCooperativeKernel(kernel, dim3(persistent_.blocks), dim3(block), args,
+                                                           persistent_.bytes, 0);
     if (status != cudaSuccess)
       throw runtime_error(std::string("the solver's kernel could not be launched: ") + cudaGetErrorString(status));
   }
