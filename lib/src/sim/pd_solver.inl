@@ -56,6 +56,23 @@ inline LaunchMode launch_mode() {
   throw runtime_error("TEAR_CUDA_LAUNCH=" + mode + ": expected persistent, one-pass, shared, two-pass, graph or plain");
 }
 
+/// The three iterate buffers of a substep's iterations: the one an iteration reads (`cur`), the one
+/// before it (`prev`) and the one it writes (`next`). Held as pointers, not as indices into
+/// `SubstepKernels::iter`: a kernel indexing that array by a variable would keep the whole
+/// `SubstepKernels` in local memory and read every argument from there, inside each iteration.
+struct Iterates {
+  float* cur;
+  float* prev;
+  float* next;
+  /// After an iteration: the next becomes current, the current previous, the previous free.
+  TEAR_HD void rotate() {
+    float* const old_prev = prev;
+    prev = cur;
+    cur = next;
+    next = old_prev;
+  }
+};
+
 /// The kernels of one substep with their arguments, built in one place for every way of launching
 /// them. The iterate pointers and ω are set per iteration (`iteration`), the last iterate for the
 /// velocity update (`finish_from`).
@@ -69,25 +86,18 @@ struct SubstepKernels {
   const float* omega;  // [iterations], ω of each iteration (on the backend for the persistent kernel)
   float* iter[3];
 
-  /// Iteration k reads iterates `cur` and `prev` and writes `next`.
-  TEAR_HD void iteration(int k, int cur, int prev, int next) {
-    project.node_iter = iter[cur];
-    update.node_iter = iter[cur];
-    update.node_iter_prev = iter[prev];
-    update.node_iter_next = iter[next];
+  /// The iterates of the first iteration: prediction's two copies, then the free buffer.
+  TEAR_HD Iterates first_iterates() const { return {iter[0], iter[1], iter[2]}; }
+  /// Iteration k reads iterates `it.cur` and `it.prev` and writes `it.next`.
+  TEAR_HD void iteration(int k, const Iterates& it) {
+    project.node_iter = it.cur;
+    update.node_iter = it.cur;
+    update.node_iter_prev = it.prev;
+    update.node_iter_next = it.next;
     update.omega = omega[k];
   }
-  TEAR_HD void finish_from(int cur) { finish.node_iter = iter[cur]; }
+  TEAR_HD void finish_from(const Iterates& it) { finish.node_iter = it.cur; }
 };
-
-/// Rotates the three iterate slots after an iteration: the next becomes current, the current
-/// previous, the previous free.
-TEAR_HD inline void rotate_iterates(int& cur, int& prev, int& next) {
-  const int old_prev = prev;
-  prev = cur;
-  cur = next;
-  next = old_prev;
-}
 
 #if TEAR_CUDA_SYSTEM
 inline constexpr int persistent_block = 256;  ///< threads per block of the persistent kernel
@@ -120,16 +130,16 @@ __global__ void two_pass_substep_kernel(SubstepKernels s) {
   const index_t node_stride = static_cast<index_t>(blockDim.x);
   for (index_t n = node_first; n < nodes.end; n += node_stride) s.predict(n);
   grid.sync();
-  int cur = 0, prev = 1, next = 2;
+  Iterates it = s.first_iterates();
   for (int k = 0; k < s.iterations; ++k) {
-    s.iteration(k, cur, prev, next);
+    s.iteration(k, it);
     for (index_t c = first; c < s.constraint_count; c += stride) s.project(c);
     grid.sync();
     for (index_t n = node_first; n < nodes.end; n += node_stride) s.update.update<16>(n);
     grid.sync();
-    rotate_iterates(cur, prev, next);
+    it.rotate();
   }
-  s.finish_from(cur);
+  s.finish_from(it);
   for (index_t n = node_first; n < nodes.end; n += node_stride) s.finish(n);
 }
 
@@ -268,17 +278,17 @@ __global__ void one_pass_substep_kernel(SubstepKernels s) {
   const index_t groups = static_cast<index_t>(blockDim.x) / group_lanes;
   const index_t rounds = (nodes.run + groups - 1) / groups;  // the same in every block: warps stay whole
   const index_t group = static_cast<index_t>(threadIdx.x) / group_lanes;
-  int cur = 0, prev = 1, next = 2;
+  Iterates it = s.first_iterates();
   HeldGroupNode<group_lanes> held;
   const index_t held_node = nodes.begin + group;
   bool holding = false;
   if (rounds == 1) {
-    s.iteration(0, cur, prev, next);
+    s.iteration(0, it);
     held.load(s.update, held_node, held_node < nodes.end);
     holding = __all_sync(0xffffffffu, held.count <= group_chunk);
   }
   for (int k = 0; k < s.iterations; ++k) {
-    s.iteration(k, cur, prev, next);
+    s.iteration(k, it);
     if (holding) {
       held.update(s.update, held_node);
     } else {
@@ -288,9 +298,9 @@ __global__ void one_pass_substep_kernel(SubstepKernels s) {
       }
     }
     grid.sync();
-    rotate_iterates(cur, prev, next);
+    it.rotate();
   }
-  s.finish_from(cur);
+  s.finish_from(it);
   for (index_t n = node_first; n < nodes.end; n += node_stride) s.finish(n);
 }
 
@@ -333,8 +343,8 @@ __global__ void __launch_bounds__(shared_block, 1) shared_substep_kernel(Substep
   const index_t first = static_cast<index_t>(threadIdx.x), stride = static_cast<index_t>(blockDim.x);
   for (index_t n = nodes.begin + first; n < nodes.end; n += stride) s.predict(n);
   grid.sync();
-  int cur = 0, prev = 1, next = 2;
-  s.iteration(0, cur, prev, next);
+  Iterates it = s.first_iterates();
+  s.iteration(0, it);
   const index_t node_count = nodes.end > nodes.begin ? nodes.end - nodes.begin : 0;
   const index_t slot_base = node_count > 0 ? s.update.node_slot_offset[nodes.begin] : 0;
   const index_t slot_count = node_count > 0 ? s.update.node_slot_offset[nodes.end] - slot_base : 0;
@@ -356,7 +366,7 @@ __global__ void __launch_bounds__(shared_block, 1) shared_substep_kernel(Substep
   }
   __syncthreads();
   for (int k = 0; k < s.iterations; ++k) {
-    s.iteration(k, cur, prev, next);
+    s.iteration(k, it);
     const kernels::jacobi_chebyshev_update& u = s.update;
     for (index_t i = first; i < slot_count; i += stride)
       products[i] = slots[i].coef * kernels::constraint_force(slots[i].terms, u.node_iter);
@@ -371,9 +381,9 @@ __global__ void __launch_bounds__(shared_block, 1) shared_substep_kernel(Substep
       v.x = x_next;
     }
     grid.sync();
-    rotate_iterates(cur, prev, next);
+    it.rotate();
   }
-  s.finish_from(cur);
+  s.finish_from(it);
   for (index_t n = nodes.begin + first; n < nodes.end; n += stride) s.finish(n);
 }
 #endif
@@ -764,14 +774,14 @@ void PdSolverOn<System>::enqueue_substep(const Policy& policy) {
   const thrust::counting_iterator<index_t> zero(0);
   SubstepKernels s = substep_kernels(omega_host_.data());
   thrust::for_each(policy, zero, zero + node_count_, s.predict);
-  int cur = 0, prev = 1, next = 2;
+  Iterates it = s.first_iterates();
   for (int k = 0; k < options_.iterations; ++k) {
-    s.iteration(k, cur, prev, next);
+    s.iteration(k, it);
     thrust::for_each(policy, zero, zero + constraint_count_, s.project);
     thrust::for_each(policy, zero, zero + node_count_, s.update);
-    rotate_iterates(cur, prev, next);
+    it.rotate();
   }
-  s.finish_from(cur);
+  s.finish_from(it);
   thrust::for_each(policy, zero, zero + node_count_, s.finish);
 }
 
@@ -838,7 +848,7 @@ typename PdSolverOn<Cuda>::PersistentLaunch PdSolverOn<Cuda>::persistent_launch(
   // on an H100 (132 multiprocessors), ms per 100 iterations, 16 lanes / 8 lanes / two passes,
   // before the groups held their nodes in registers: 1,486 nodes 0.47 / 0.59 / 0.65; 4,646 nodes
   // 0.87 / 0.65 / 0.66; 10,201 nodes 1.19 / 0.80 / 0.72; 19,426 nodes 1.84 / 1.29 / 0.89. Holding
-  // them, 1,486 nodes take 0.29.
+  // them, 1,486 nodes take 0.29, and 0.27 once the kernel's arguments left local memory.
   const long long lane_budget = 256LL * resident.sms;
   const long long nodes = node_count_;
   if (resident.one_pass_16 > 0 && resident.one_pass_8 > 0 &&
@@ -848,9 +858,10 @@ typename PdSolverOn<Cuda>::PersistentLaunch PdSolverOn<Cuda>::persistent_launch(
   }
   // Shared memory: each block holds its nodes and their slots (`shared_substep_kernel`), one block
   // per multiprocessor, where every block's fit (up to about 27,000 nodes of a sheet on an H100's
-  // 227 KiB a block). Measured on an H100, ms per 100 iterations, shared memory against two passes:
-  // 4,646 nodes 0.43 / 0.66; 10,201 nodes 0.51 / 0.72; 19,426 nodes 0.64 / 0.89. At 1,486 nodes
-  // one pass in registers takes 0.29 against its 0.39.
+  // 227 KiB a block). Measured on an H100, ms per 100 iterations, shared memory against two passes
+  // (before either stopped reading its arguments from local memory): 4,646 nodes 0.43 / 0.66;
+  // 10,201 nodes 0.51 / 0.72; 19,426 nodes 0.64 / 0.89 (after: 0.28 and 0.49 at 4,646 and 19,426).
+  // At 1,486 nodes one pass in registers takes 0.29 against its 0.39.
   if ((launch_mode_ == LaunchMode::shared || launch_mode_ == LaunchMode::persistent) && resident.shared_bytes > 0 &&
       nodes > 0) {
     const long long slots = used_slot_count();
@@ -874,10 +885,10 @@ typename PdSolverOn<Cuda>::PersistentLaunch PdSolverOn<Cuda>::persistent_launch(
   }
   if (resident.two_pass == 0) return {};
   // Two passes: only while each thread has at most a few elements per pass; on larger meshes
-  // separate launches, replayed as a graph, measured faster. H100 (one block of the two-pass kernel
-  // per multiprocessor), ms per 100 iterations, two passes against the graph: 33,131 nodes (5.9
-  // elements a thread) 1.08 against 1.27; 49,595 nodes (8.8) 1.62 against 1.37; 131,797 nodes 4.2
-  // against 3.7.
+  // separate launches, replayed as a graph, measured faster. H100 (two blocks of the two-pass
+  // kernel per multiprocessor), ms per 100 iterations, two passes against the graph: 49,595 nodes
+  // (4.4 elements a thread) 1.23 against 1.38; 66,049 nodes (5.8) 1.42 against 1.46; 98,931 nodes
+  // (8.8) 2.98 against 2.81.
   const long long work = node_count_ > constraint_count_ ? node_count_ : constraint_count_;
   if (launch_mode_ == LaunchMode::persistent && work > 7 * resident.two_pass * persistent_block) return {};
   return {Kind::two_pass, blocks_for(work, resident.two_pass), 0};
