@@ -202,6 +202,32 @@ __device__ void group_update(const kernels::jacobi_chebyshev_update& u, index_t 
   if (active && lane == 0) kernels::store3(u.node_iter_next, n, u.next_from_sum(n, x, s, g));
 }
 
+/// A node's values that do not change within a substep (prediction, mass, diagonal, pin) and its
+/// last two iterates, as a kernel holds them instead of reading them each iteration: in registers
+/// (`HeldGroupNode`) or in shared memory (`SharedNode`).
+struct HeldNodeState {
+  kernels::Vec3f s, x, x_prev;
+  float mass, diag;
+  std::int32_t pinned;
+
+  /// Node n before the first iteration: `u` set for it.
+  __device__ static HeldNodeState load(const kernels::jacobi_chebyshev_update& u, index_t n) {
+    return {kernels::load3<float>(u.node_pred, n), kernels::load3<float>(u.node_iter, n),
+            kernels::load3<float>(u.node_iter_prev, n), u.node_mass[n], u.node_diag[n], u.node_pinned[n]};
+  }
+  /// The update's sum's first term, m/h² (s − x).
+  __device__ kernels::Vec3f inertial_term(const kernels::jacobi_chebyshev_update& u) const {
+    return u.inertial_term_of(mass, x, s);
+  }
+  /// x⁽ᵏ⁺¹⁾ from the summed g, which becomes the held iterate; returns it.
+  __device__ kernels::Vec3f advance(const kernels::jacobi_chebyshev_update& u, const kernels::Vec3f& g) {
+    const kernels::Vec3f next = u.next_from_held(pinned != 0, diag, x, x_prev, s, g);
+    x_prev = x;
+    x = next;
+    return next;
+  }
+};
+
 /// `group_update` of a node whose group keeps, in registers, all that an iteration reads of it
 /// except the iterate's neighbours: its constraints' terms and coefficients (a node of at most
 /// `group_chunk` slots), its mass, diagonal, pin and prediction, and its own last two iterates.
@@ -214,9 +240,8 @@ struct HeldGroupNode {
   kernels::ConstraintTerms terms[rounds];
   float coef[rounds];
   index_t count = 0;
-  bool active = false, pinned = false;
-  float mass = 0.0f, diag = 0.0f;
-  kernels::Vec3f s{0, 0, 0}, x{0, 0, 0}, x_prev{0, 0, 0};
+  bool active = false;
+  HeldNodeState node{};
 
   /// Reads node n (`active`) before the first iteration: `u` set for it.
   __device__ void load(const kernels::jacobi_chebyshev_update& u, index_t n, bool is_active) {
@@ -233,12 +258,7 @@ struct HeldGroupNode {
         coef[r] = u.node_slot_coef[begin + j];
       }
     }
-    pinned = u.node_pinned[n] != 0;
-    mass = u.node_mass[n];
-    diag = u.node_diag[n];
-    s = kernels::load3<float>(u.node_pred, n);
-    x = kernels::load3<float>(u.node_iter, n);
-    x_prev = kernels::load3<float>(u.node_iter_prev, n);
+    node = HeldNodeState::load(u, n);
   }
 
   /// One iteration: `u` set for it (the iterates it reads and writes, ω).
@@ -246,7 +266,7 @@ struct HeldGroupNode {
     using kernels::Vec3f;
     const int lane = static_cast<int>(threadIdx.x) % group_lanes;
     Vec3f g{0, 0, 0};
-    if (active) g = u.inertial_term_of(mass, x, s);
+    if (active) g = node.inertial_term(u);
     Vec3f product[rounds];
 #pragma unroll
     for (int r = 0; r < rounds; ++r) {
@@ -255,10 +275,8 @@ struct HeldGroupNode {
     }
     sum_group_products<group_lanes>(product, 0, count, g);
     if (!active) return;
-    const Vec3f next = u.next_from_held(pinned, diag, x, x_prev, s, g);
+    const Vec3f next = node.advance(u, g);
     if (lane == 0) kernels::store3(u.node_iter_next, n, next);
-    x_prev = x;
-    x = next;
   }
 };
 
@@ -313,13 +331,10 @@ struct SharedSlot {
   kernels::ConstraintTerms terms;
   float coef;
 };
-/// A node as that block holds it: its prediction and last two iterates, mass, diagonal, pin, and
-/// its slots' range in the block's slots.
+/// A node as that block holds it: its held state and its slots' range in the block's slots.
 struct SharedNode {
-  kernels::Vec3f s, x, x_prev;
-  float mass, diag;
+  HeldNodeState state;
   index_t slot_begin, slot_end;
-  std::int32_t pinned;
 };
 
 /// Shared memory a block of the shared-memory kernel needs for `slots` slots and `nodes` nodes.
@@ -358,10 +373,7 @@ __global__ void __launch_bounds__(shared_block, 1) shared_substep_kernel(Substep
                   u.node_slot_coef[slot_base + i]};
     for (index_t j = first; j < node_count; j += stride) {
       const index_t n = nodes.begin + j;
-      held[j] = {kernels::load3<float>(u.node_pred, n),      kernels::load3<float>(u.node_iter, n),
-                 kernels::load3<float>(u.node_iter_prev, n), u.node_mass[n],
-                 u.node_diag[n],                             u.node_slot_offset[n] - slot_base,
-                 u.node_slot_offset[n + 1] - slot_base,      u.node_pinned[n]};
+      held[j] = {HeldNodeState::load(u, n), u.node_slot_offset[n] - slot_base, u.node_slot_offset[n + 1] - slot_base};
     }
   }
   __syncthreads();
@@ -373,12 +385,9 @@ __global__ void __launch_bounds__(shared_block, 1) shared_substep_kernel(Substep
     __syncthreads();
     for (index_t j = first; j < node_count; j += stride) {
       SharedNode& v = held[j];
-      Vec3f g = u.inertial_term_of(v.mass, v.x, v.s);
+      Vec3f g = v.state.inertial_term(u);
       for (index_t i = v.slot_begin; i < v.slot_end; ++i) g = g + products[i];
-      const Vec3f x_next = u.next_from_held(v.pinned != 0, v.diag, v.x, v.x_prev, v.s, g);
-      kernels::store3(u.node_iter_next, nodes.begin + j, x_next);
-      v.x_prev = v.x;
-      v.x = x_next;
+      kernels::store3(u.node_iter_next, nodes.begin + j, v.state.advance(u, g));
     }
     grid.sync();
     it.rotate();
