@@ -6,6 +6,7 @@
 // direction; a plane is a blade whose polyline is one line unbounded at both ends.
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 
 #include "hd.h"
@@ -25,7 +26,32 @@ struct CutPath {
   index_t point_begin;  ///< first point of the polyline in the frame's point arrays
   index_t point_count;  ///< >= 2
   std::int32_t unbounded;  ///< bit 0: the first segment extends backwards without end; bit 1: the last, forwards
+  /// With no unbounded end: the box of all its points (`path_box_misses`); else unused.
+  double box_lo[2];
+  double box_hi[2];
 };
+
+/// The box of a bounded path's points, for `path_box_misses` (a path with an unbounded end has none).
+inline void set_path_box(CutPath& cut, const double* point_x, const double* point_y) {
+  for (int a = 0; a < 2; ++a) {
+    const double* v = a == 0 ? point_x : point_y;
+    cut.box_lo[a] = cut.box_hi[a] = v[cut.point_begin];
+    for (index_t i = 1; i < cut.point_count; ++i) {
+      const double x = v[cut.point_begin + i];
+      cut.box_lo[a] = x < cut.box_lo[a] ? x : cut.box_lo[a];
+      cut.box_hi[a] = x > cut.box_hi[a] ? x : cut.box_hi[a];
+    }
+  }
+}
+
+/// Whether a bounded path's box misses the face box [lo, hi] grown by `margin`. Every segment's box
+/// lies inside the path's, so the path then misses the face wherever its segments' boxes would: the
+/// same comparisons `intersect_cuts` makes per segment, made once for all of them.
+TEAR_HD inline bool path_box_misses(const CutPath& cut, double lo_x, double hi_x, double lo_y, double hi_y,
+                                    double margin) {
+  return cut.unbounded == 0 && (cut.box_hi[0] < lo_x - margin || cut.box_lo[0] > hi_x + margin ||
+                                cut.box_hi[1] < lo_y - margin || cut.box_lo[1] > hi_y + margin);
+}
 
 struct Vec2 {
   double x, y;

@@ -39,6 +39,8 @@ struct intersect_cuts {
   double* half_hit_sum;
   index_t* half_hit_count;
   std::uint16_t* face_pairs;
+  /// Tests only: every face goes through every segment's own box, as if no path had a box.
+  bool skip_path_box = false;
 
   TEAR_HD void operator()(index_t f) const {
     double sum[3] = {0, 0, 0};
@@ -55,7 +57,8 @@ struct intersect_cuts {
       int event_count = 0;
       // Broad phase: a bounded segment whose box misses the face's box, grown by more than
       // cross_edge's tolerances (a crossing it accepts lies on the edge and within twice its
-      // tolerance of the segment), crosses none of its edges.
+      // tolerance of the segment), crosses none of its edges; nor does a bounded path whose box
+      // misses it (most faces, far from a cut: one test instead of one per segment).
       double box_lo_x = corner[0].x, box_hi_x = corner[0].x, box_lo_y = corner[0].y, box_hi_y = corner[0].y;
       for (int k = 1; k < 3; ++k) {
         box_lo_x = fmin(box_lo_x, corner[k].x);
@@ -66,6 +69,7 @@ struct intersect_cuts {
       const double magnitude = fmax(fmax(fabs(box_lo_x), fabs(box_hi_x)), fmax(fabs(box_lo_y), fabs(box_hi_y)));
       const double extent = (box_hi_x - box_lo_x) + (box_hi_y - box_lo_y);  // >= every edge's length
       const double margin = 4.0 * (on_line_tolerance * extent + on_line_float_tolerance * magnitude);
+      if (!skip_path_box && path_box_misses(cut, box_lo_x, box_hi_x, box_lo_y, box_hi_y, margin)) continue;
       for (index_t i = 0; i + 1 < cut.point_count; ++i) {
         const index_t pi = cut.point_begin + i;
         const Vec2 p{point_x[pi], point_y[pi]}, q{point_x[pi + 1], point_y[pi + 1]};

@@ -211,7 +211,9 @@ void Remesher<System>::upload_cuts(const std::vector<CutLine>& cuts) {
       xs.push_back(q[0]);
       ys.push_back(q[1]);
     }
-    if (p.point_count >= 2) paths.push_back(p);
+    if (p.point_count < 2) continue;
+    kernels::set_path_box(p, xs.data(), ys.data());
+    paths.push_back(p);
   }
   upload_.begin(Upload<System>::template bytes_for<kernels::CutPath>(paths.size()) +
                 2 * Upload<System>::template bytes_for<double>(xs.size()));
