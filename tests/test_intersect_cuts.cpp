@@ -53,8 +53,9 @@ void add_random_path(Random& random, const Mesh& mesh, bool uv, Paths& paths) {
       const index_t node = mesh.face_nodes[corner];
       for (int a = 0; a < 2; ++a)
         q[a] = uv ? double(mesh.corner_uv[2 * corner + a]) : double(mesh.node_pos[3 * node + a]);
+      const double span = uv ? 1.0 : hi[0] - lo[0];  // UVs span [0, 1]
       if (random.chance(0.5))  // a hair off it: inside or outside the crossing tolerances
-        for (double& v : q) v += (random.chance(0.5) ? 1 : -1) * random.uniform(0.0, 4e-6) * (hi[0] - lo[0]);
+        for (double& v : q) v += (random.chance(0.5) ? 1 : -1) * random.uniform(0.0, 4e-6) * span;
     } else {
       for (int a = 0; a < 2; ++a) {  // UVs span [0, 1]
         const double l = uv ? 0.0 : lo[a], h = uv ? 1.0 : hi[a];
@@ -102,7 +103,7 @@ TEST_CASE("intersect_cuts: a path's box skips the faces its segments' boxes woul
           "[remesh][property]") {
   const std::uint64_t first = tear::test::test_seed(9100);
   const bool one = std::getenv("TEAR_TEST_SEED") != nullptr;
-  std::size_t skipped = 0, crossed = 0, faces = 0;
+  std::size_t skipped = 0, crossed = 0, faces = 0;  // skipped: (face, path) pairs
   for (std::uint64_t seed = first; seed < first + (one ? 1 : 150); ++seed) {
     INFO("seed " << seed << " (TEAR_TEST_SEED=" << seed << " reruns it)");
     Random random(seed);
@@ -134,7 +135,7 @@ TEST_CASE("intersect_cuts: a path's box skips the faces its segments' boxes woul
       }
     }
   }
-  INFO("faces " << faces << ", crossed " << crossed << ", skipped by a path's box " << skipped);
+  INFO("faces " << faces << ", crossed " << crossed << ", (face, path) pairs a path's box skips " << skipped);
   CHECK(crossed > faces / 20);
   CHECK(skipped > faces / 4);
 }
