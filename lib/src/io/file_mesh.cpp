@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -44,6 +45,21 @@ double Transform::linear_determinant() const {
          m[0][2] * (m[1][0] * m[2][1] - m[1][1] * m[2][0]);
 }
 
+namespace {
+
+/// Corners of one primitive from which `append_placed` gathers their values on several threads.
+constexpr std::int64_t parallel_corners = std::int64_t(1) << 16;
+
+/// Appends `count` zeros to `values` and returns where they begin.
+template <class T>
+T* grow(std::vector<T>& values, std::size_t count) {
+  const std::size_t at = values.size();
+  values.resize(at + count);
+  return values.data() + at;
+}
+
+}  // namespace
+
 void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normals, bool with_velocities, bool with_ids,
                    FileMesh& out) {
   const Transform& t = placed.transform;
@@ -76,59 +92,68 @@ void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normal
   room_for(mesh.face_nodes, corner_count);
   if (with_uv) room_for(mesh.corner_uv, 2 * corner_count);
   if (with_normals) room_for(mesh.corner_normal, 3 * corner_count);
-  for (index_t v = 0; v < placed.vertex_count; ++v) {
-    const float* p = placed.vertex_pos + 3 * v;
-    if (identity) {
-      mesh.node_pos.insert(mesh.node_pos.end(), p, p + 3);
+  // Nodes: copied whole where the transform is the identity, else one by one.
+  if (identity) {
+    mesh.node_pos.insert(mesh.node_pos.end(), placed.vertex_pos, placed.vertex_pos + 3 * vertex_count);
+  } else {
+    float* pos = grow(mesh.node_pos, 3 * vertex_count);
+    for (std::size_t v = 0; v < vertex_count; ++v) {
+      const float* p = placed.vertex_pos + 3 * v;
+      for (int r = 0; r < 3; ++r)
+        pos[3 * v + r] = static_cast<float>(t.m[r][0] * p[0] + t.m[r][1] * p[1] + t.m[r][2] * p[2] + t.m[r][3]);
+    }
+  }
+  if (with_velocities) {
+    if (placed.vertex_vel && identity) {
+      mesh.node_vel.insert(mesh.node_vel.end(), placed.vertex_vel, placed.vertex_vel + 3 * vertex_count);
     } else {
-      for (int r = 0; r < 3; ++r) {
-        mesh.node_pos.push_back(static_cast<float>(t.m[r][0] * p[0] + t.m[r][1] * p[1] + t.m[r][2] * p[2] + t.m[r][3]));
+      float* vel = grow(mesh.node_vel, 3 * vertex_count);  // zeros where the primitive has none
+      for (std::size_t v = 0; placed.vertex_vel && v < vertex_count; ++v) {
+        const float* w = placed.vertex_vel + 3 * v;
+        for (int r = 0; r < 3; ++r)
+          vel[3 * v + r] = static_cast<float>(t.m[r][0] * w[0] + t.m[r][1] * w[1] + t.m[r][2] * w[2]);
       }
     }
-    if (with_velocities) {
-      const float* w = placed.vertex_vel ? placed.vertex_vel + 3 * v : nullptr;
-      for (int r = 0; r < 3; ++r) {
-        if (!w) {
-          mesh.node_vel.push_back(0.0f);
-        } else if (identity) {
-          mesh.node_vel.push_back(w[r]);
-        } else {
-          mesh.node_vel.push_back(static_cast<float>(t.m[r][0] * w[0] + t.m[r][1] * w[1] + t.m[r][2] * w[2]));
-        }
-      }
-    }
-    if (with_ids) out.vertex_id.push_back(placed.vertex_id ? placed.vertex_id[v] : none);
+  }
+  if (with_ids) {
+    if (placed.vertex_id)
+      out.vertex_id.insert(out.vertex_id.end(), placed.vertex_id, placed.vertex_id + vertex_count);
+    else
+      out.vertex_id.insert(out.vertex_id.end(), vertex_count, none);
   }
 
+  // Faces, and their corners' values gathered from their vertices: each corner written in place,
+  // on OpenMP threads for a large primitive (every corner is its own, so the result is the same).
   const std::vector<index_t>& triangles = *placed.triangles;
-  for (std::size_t f = 0; f + 2 < triangles.size(); f += 3) {
-    for (int k = 0; k < 3; ++k) {
-      const index_t v = triangles[f + (mirrored && k > 0 ? 3 - k : k)];
-      mesh.face_nodes.push_back(base + v);
-      if (with_uv) {
-        if (placed.vertex_uv) {
-          mesh.corner_uv.insert(mesh.corner_uv.end(), placed.vertex_uv + 2 * v, placed.vertex_uv + 2 * v + 2);
-        } else {
-          mesh.corner_uv.insert(mesh.corner_uv.end(), {0.0f, 0.0f});
-        }
-      }
-      if (!with_normals) continue;
-      if (!placed.vertex_normal) {
-        mesh.corner_normal.insert(mesh.corner_normal.end(), {0.0f, 0.0f, 0.0f});
-        continue;
-      }
-      const float* n = placed.vertex_normal + 3 * v;
-      if (identity) {
-        mesh.corner_normal.insert(mesh.corner_normal.end(), n, n + 3);
-        continue;
-      }
-      double m[3];
-      for (int r = 0; r < 3; ++r)
-        m[r] = normal_matrix[r][0] * n[0] + normal_matrix[r][1] * n[1] + normal_matrix[r][2] * n[2];
-      const double length = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-      const double scale = length > 0.0 ? 1.0 / length : 0.0;
-      for (int r = 0; r < 3; ++r) mesh.corner_normal.push_back(static_cast<float>(m[r] * scale));
+  const std::size_t corners = triangles.size() / 3 * 3;
+  index_t* face_nodes = grow(mesh.face_nodes, corners);
+  float* corner_uv = with_uv ? grow(mesh.corner_uv, 2 * corners) : nullptr;  // zeros where none
+  float* corner_normal = with_normals ? grow(mesh.corner_normal, 3 * corners) : nullptr;
+  const float* vertex_uv = placed.vertex_uv;
+  const float* vertex_normal = placed.vertex_normal;
+  const std::int64_t corner_total = static_cast<std::int64_t>(corners);
+#pragma omp parallel for schedule(static) if (corner_total >= parallel_corners)
+  for (std::int64_t ci = 0; ci < corner_total; ++ci) {
+    const std::size_t c = static_cast<std::size_t>(ci);
+    const std::size_t k = c % 3;
+    const index_t v = triangles[c - k + (mirrored && k > 0 ? 3 - k : k)];
+    face_nodes[c] = base + v;
+    const std::size_t vi = static_cast<std::size_t>(v);
+    if (corner_uv && vertex_uv) {
+      corner_uv[2 * c] = vertex_uv[2 * vi];
+      corner_uv[2 * c + 1] = vertex_uv[2 * vi + 1];
     }
+    if (!corner_normal || !vertex_normal) continue;
+    const float* n = vertex_normal + 3 * vi;
+    if (identity) {
+      for (int r = 0; r < 3; ++r) corner_normal[3 * c + r] = n[r];
+      continue;
+    }
+    double m[3];
+    for (int r = 0; r < 3; ++r) m[r] = normal_matrix[r][0] * n[0] + normal_matrix[r][1] * n[1] + normal_matrix[r][2] * n[2];
+    const double length = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+    const double scale = length > 0.0 ? 1.0 / length : 0.0;
+    for (int r = 0; r < 3; ++r) corner_normal[3 * c + r] = static_cast<float>(m[r] * scale);
   }
 }
 
