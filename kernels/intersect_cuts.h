@@ -39,8 +39,6 @@ struct intersect_cuts {
   double* half_hit_sum;
   index_t* half_hit_count;
   std::uint16_t* face_pairs;
-  /// Tests only: every face goes through every segment's own box, as if no path had a box.
-  bool skip_path_box = false;
 
   TEAR_HD void operator()(index_t f) const {
     double sum[3] = {0, 0, 0};
@@ -69,7 +67,7 @@ struct intersect_cuts {
       const double magnitude = fmax(fmax(fabs(box_lo_x), fabs(box_hi_x)), fmax(fabs(box_lo_y), fabs(box_hi_y)));
       const double extent = (box_hi_x - box_lo_x) + (box_hi_y - box_lo_y);  // >= every edge's length
       const double margin = 4.0 * (on_line_tolerance * extent + on_line_float_tolerance * magnitude);
-      if (!skip_path_box && path_box_misses(cut, box_lo_x, box_hi_x, box_lo_y, box_hi_y, margin)) continue;
+      if (path_box_misses(cut, box_lo_x, box_hi_x, box_lo_y, box_hi_y, margin)) continue;
       for (index_t i = 0; i + 1 < cut.point_count; ++i) {
         const index_t pi = cut.point_begin + i;
         const Vec2 p{point_x[pi], point_y[pi]}, q{point_x[pi + 1], point_y[pi + 1]};

@@ -181,7 +181,7 @@ TEAR_UNROLL
       for (int j = 0; j < batch; ++j)
         if (j < count) g = g + coef[j] * f[j];
     }
-    store3(node_iter_next, n, accelerated(n, x, diag, g));
+    store3(node_iter_next, n, accelerated_from(x, load3<float>(node_iter_prev, n), diag, g));
   }
 
   // The update's two ends, shared with the CUDA solver's one-pass kernel, which sums g its own way
@@ -191,15 +191,12 @@ TEAR_UNROLL
   TEAR_HD Vec3f inertial_term_of(float mass, const Vec3f& x, const Vec3f& s) const { return (mass * inv_h2) * (s - x); }
   /// x⁽ᵏ⁺¹⁾ from the summed g of a free node with a positive diagonal: the Jacobi step, then
   /// Chebyshev's.
-  TEAR_HD Vec3f accelerated(index_t n, const Vec3f& x, float diag, const Vec3f& g) const {
-    return accelerated_from(x, load3<float>(node_iter_prev, n), diag, g);
-  }
   TEAR_HD Vec3f accelerated_from(const Vec3f& x, const Vec3f& x_prev, float diag, const Vec3f& g) const {
     const Vec3f x_hat = x + (1.0f / diag) * g;
     return omega * (gamma * (x_hat - x) + x - x_prev) + x_prev;
   }
   /// x⁽ᵏ⁺¹⁾ of any node from its summed g: x for a pinned node, s for one without a positive
-  /// diagonal, else `accelerated`.
+  /// diagonal, else `accelerated_from`.
   TEAR_HD Vec3f next_from_sum(index_t n, const Vec3f& x, const Vec3f& s, const Vec3f& g) const {
     return next_from_held(node_pinned[n] != 0, node_diag[n], x, load3<float>(node_iter_prev, n), s, g);
   }

@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -75,7 +76,15 @@ void add_random_path(Random& random, const Mesh& mesh, bool uv, Paths& paths) {
   paths.cuts.push_back(p);
 }
 
-Crossings intersect(const Mesh& mesh, const Paths& paths, bool skip_path_box) {
+/// The crossings of `paths`; with `without_path_box`, every path's box grown to the whole plane, so
+/// that every face goes through every segment's own box.
+Crossings intersect(const Mesh& mesh, Paths paths, bool without_path_box) {
+  if (without_path_box)
+    for (kernels::CutPath& cut : paths.cuts)
+      for (int a = 0; a < 2; ++a) {
+        cut.box_lo[a] = -std::numeric_limits<double>::infinity();
+        cut.box_hi[a] = std::numeric_limits<double>::infinity();
+      }
   const std::size_t faces = mesh.face_count();
   Crossings c;
   c.half_hit_sum.assign(3 * faces, -1);
@@ -91,8 +100,7 @@ Crossings intersect(const Mesh& mesh, const Paths& paths, bool skip_path_box) {
                              paths.y.data(),
                              c.half_hit_sum.data(),
                              c.half_hit_count.data(),
-                             c.face_pairs.data(),
-                             skip_path_box};
+                             c.face_pairs.data()};
   for (std::size_t f = 0; f < faces; ++f) op(static_cast<index_t>(f));
   return c;
 }

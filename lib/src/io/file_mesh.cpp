@@ -85,13 +85,14 @@ void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normal
     if (values.capacity() < values.size() + more) values.reserve(std::max(values.size() + more, 2 * values.size()));
   };
   const std::size_t vertex_count = static_cast<std::size_t>(placed.vertex_count);
-  const std::size_t corner_count = placed.triangles->size();
+  const std::vector<index_t>& triangles = *placed.triangles;
+  const std::size_t corners = triangles.size() / 3 * 3;
   room_for(mesh.node_pos, 3 * vertex_count);
   if (with_velocities) room_for(mesh.node_vel, 3 * vertex_count);
   if (with_ids) room_for(out.vertex_id, vertex_count);
-  room_for(mesh.face_nodes, corner_count);
-  if (with_uv) room_for(mesh.corner_uv, 2 * corner_count);
-  if (with_normals) room_for(mesh.corner_normal, 3 * corner_count);
+  room_for(mesh.face_nodes, corners);
+  if (with_uv) room_for(mesh.corner_uv, 2 * corners);
+  if (with_normals) room_for(mesh.corner_normal, 3 * corners);
   // Nodes: copied whole where the transform is the identity, else one by one.
   if (identity) {
     mesh.node_pos.insert(mesh.node_pos.end(), placed.vertex_pos, placed.vertex_pos + 3 * vertex_count);
@@ -124,8 +125,6 @@ void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normal
 
   // Faces, and their corners' values gathered from their vertices: each corner written in place,
   // on OpenMP threads for a large primitive (every corner is its own, so the result is the same).
-  const std::vector<index_t>& triangles = *placed.triangles;
-  const std::size_t corners = triangles.size() / 3 * 3;
   index_t* face_nodes = grow(mesh.face_nodes, corners);
   float* corner_uv = with_uv ? grow(mesh.corner_uv, 2 * corners) : nullptr;  // zeros where none
   float* corner_normal = with_normals ? grow(mesh.corner_normal, 3 * corners) : nullptr;

@@ -102,14 +102,18 @@ struct SubstepKernels {
 #if TEAR_CUDA_SYSTEM
 inline constexpr int persistent_block = 256;  ///< threads per block of the persistent kernel
 
-/// The nodes a block of a cooperative substep kernel takes: an equal run each, [begin, end).
+/// The nodes block `block` of `blocks` takes in a cooperative substep kernel: an equal run each,
+/// [begin, end). The host sizes the shared-memory kernel's blocks with the same split.
 struct BlockNodes {
   index_t run, begin, end;
 };
-__device__ inline BlockNodes block_nodes(index_t node_count) {
-  const index_t run = (node_count + static_cast<index_t>(gridDim.x) - 1) / static_cast<index_t>(gridDim.x);
-  const index_t begin = static_cast<index_t>(blockIdx.x) * run;
+TEAR_HD inline BlockNodes block_nodes_of(index_t node_count, index_t blocks, index_t block) {
+  const index_t run = (node_count + blocks - 1) / blocks;
+  const index_t begin = block * run;
   return {run, begin, begin + run < node_count ? begin + run : node_count};
+}
+__device__ inline BlockNodes block_nodes(index_t node_count) {
+  return block_nodes_of(node_count, static_cast<index_t>(gridDim.x), static_cast<index_t>(blockIdx.x));
 }
 
 /// The whole substep in one cooperative kernel: each pass a loop over its elements calling the
@@ -875,13 +879,13 @@ typename PdSolverOn<Cuda>::PersistentLaunch PdSolverOn<Cuda>::persistent_launch(
       nodes > 0) {
     const long long slots = used_slot_count();
     if (shared_bytes(slots, nodes) <= resident.shared_bytes * static_cast<std::size_t>(resident.sms)) {
-      const long long blocks = nodes < resident.sms ? nodes : resident.sms;
-      const long long run = (nodes + blocks - 1) / blocks;  // as `block_nodes`
+      const index_t blocks = static_cast<index_t>(nodes < resident.sms ? nodes : resident.sms);
       const std::vector<index_t> offset = to_host<index_t>(node_slot_offset_);
       std::size_t most = 0;
-      for (long long begin = 0; begin < nodes; begin += run) {
-        const long long end = begin + run < nodes ? begin + run : nodes;
-        most = std::max(most, shared_bytes(offset[end] - offset[begin], end - begin));
+      for (index_t block = 0; block < blocks; ++block) {
+        const BlockNodes run = block_nodes_of(node_count_, blocks, block);
+        if (run.end > run.begin)
+          most = std::max(most, shared_bytes(offset[run.end] - offset[run.begin], run.end - run.begin));
       }
       int per_sm = 0;
       if (most <= resident.shared_bytes &&
