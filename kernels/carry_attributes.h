@@ -77,14 +77,15 @@ struct carry_node_attributes {
 };
 
 /// One face value (an index per face): each new face takes its parent's.
+/// One face value (an index or a float), copied bit for bit from the parent as a 32-bit word.
 struct FaceValueArrays {
-  const index_t* old_value;  ///< [old_face_count]
-  index_t* new_value;        ///< [new_face_count]
+  const std::uint32_t* old_value;  ///< [old_face_count]
+  std::uint32_t* new_value;        ///< [new_face_count]
 };
 
 /// The face values a cut carries; `write_new_faces` writes them with the parents.
 struct FaceAttributes {
-  static constexpr int capacity = 2;
+  static constexpr int capacity = 3;
   FaceValueArrays at[capacity];
   int count = 0;
 };

@@ -3,6 +3,7 @@
 #pragma once
 
 #include <array>
+#include <cstdint>
 #include <cstddef>
 #include <string>
 #include <vector>
@@ -76,16 +77,46 @@ struct ChebyshevOptions {
   int delay = 10;      ///< plain (under-relaxed) Jacobi iterations before the acceleration starts, >= 0
 };
 
-/// The cloth tearing by itself where it is stretched too far (`simulation.tearing`).
+/// The grain of a woven fabric (`simulation.tearing.weave`): its threads run along the warp
+/// direction (in UV space) and across it (the weft).
+struct Weave {
+  std::array<double, 2> warp{0, 1};  ///< the warp's direction in UV space (normalised when read)
+  double weft_strength = 1;          ///< a crack along the weft tears at this times the warp's limit
+};
+
+/// The cloth tearing by itself where it is stretched too far (`simulation.tearing`): cracks that
+/// start where the smoothed stretch passes `start`, run from their tips while the stretch around a
+/// tip passes `stretch`, and stop at borders, other cracks or where the stress is gone
+/// (docs/simulation.md, *Tearing*).
 struct TearingOptions {
-  /// The largest principal stretch a face bears (current length / rest length along its most
-  /// stretched direction); beyond it the face tears across that direction. 0: no tearing; else > 1.
+  /// The largest principal stretch the fabric bears, measured over a disc of `radius` around a crack
+  /// tip in the rest shape; beyond it the tip advances. 0: no tearing; else > 1.
   double stretch = 0;
-  /// Faces torn at most per substep (the most stretched first), >= 1.
+  /// The smoothed stretch at which a new crack starts; 0: `stretch`.
+  double start = 0;
+  /// Radius of the disc the stretch is smoothed over, metres (also the distance within which a tip
+  /// joins another crack or a border, and no new crack starts near a crack).
+  double radius = 0.05;
+  /// How far a tip advances per substep, metres (at least one face's width); 0: radius / 2.
+  double step = 0;
+  /// The smallest piece a crack may cut off, square metres of rest area; < 0: (2 radius)² (default).
+  double min_piece = -1;
+  /// Most crack advances and starts per substep, >= 1.
   int max_faces_per_step = 64;
   /// Snap tolerance of the tear's cut points: the script's `snap` (as `default_snap` unless given).
   double snap = 0.2;
+  bool has_weave = false;
+  Weave weave;
+  /// Edges where the input's UVs are discontinuous (seams) tear at this times the limit.
+  double seam_strength = 1;
+  /// Relative amplitude of a seeded noise field (feature size `radius`) on the limits, in [0, 0.9].
+  double variation = 0;
+  std::uint32_t seed = 0;
+
   bool enabled() const { return stretch > 0; }
+  double start_stretch() const { return start > 0 ? start : stretch; }
+  double step_m() const { return step > 0 ? step : radius / 2; }
+  double min_piece_m2() const { return min_piece >= 0 ? min_piece : 4 * radius * radius; }
 };
 
 /// The `simulation` block of a cut script, in physical units. Defaults suit a 1 m cloth.

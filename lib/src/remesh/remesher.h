@@ -2,7 +2,6 @@
 //
 //   cut_info_from_paths  §2.1  where scripted polylines, blades and planes cross the mesh: cut
 //                              points on edges and in faces, 6-bit face / 2-bit edge cut info
-//   cut_info_from_strain §2.1  the same for the cracks of faces stretched too far (tearing)
 //   apply_cut_info       §2.2–2.4  counts → scans → writes of new nodes and faces → node mapping →
 //                              carried attributes → topology
 //
@@ -18,6 +17,7 @@
 #include <chrono>
 #include <cmath>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -31,7 +31,7 @@
 
 #include "backend/backend.h"
 #include "carry_attributes.h"
-#include "cloth/device_cloth.h"
+#include "cloth_data/device_cloth.h"
 #include "count_new_nodes.h"
 #include "cut_info.h"
 #include "intersect_cuts.h"
@@ -40,7 +40,6 @@
 #include "tear/cloth.h"
 #include "tear/error.h"
 #include "tear/simulation_options.h"
-#include "tear_cracks.h"
 #include "topology/device_topology.h"
 #include "write_new_faces.h"
 #include "write_new_nodes.h"
@@ -80,12 +79,6 @@ struct CutInfo {
   vec<float> face_point_bary;      ///< [face_count * 3] face point, where the face has one
 };
 
-/// What `cut_info_from_strain` tears: the faces it cracks. Their cracks' rest length is
-/// `Remesher::tear_length`'s, read back with the cut's counts.
-struct TearCut {
-  index_t faces = 0;
-};
-
 template <class System>
 class Remesher {
   template <class T>
@@ -97,18 +90,6 @@ class Remesher {
   /// §2.1: cut info of `cuts` on `cloth`. Returns false when no cut path is usable (nothing to do).
   bool cut_info_from_paths(const DeviceCloth<System>& cloth, const std::vector<CutLine>& cuts,
                            const CutOptions& options, StageClock& clock);
-
-  /// §2.1 for tearing: cracks through the faces stretched beyond `tearing.stretch`, chosen and laid
-  /// as `kernels/tear_cracks.h` says. Returns false when no face tears (a pass writing the
-  /// stretches, one choosing the faces, their compaction and the read-back of its count). Sets
-  /// `torn.faces`; the cracks' length is read back later, with the cut's counts (`tear_length`).
-  bool cut_info_from_strain(const DeviceCloth<System>& cloth, const TearingOptions& tearing, const CutOptions& options,
-                            TearCut& torn, StageClock& clock);
-
-  /// The rest length of the cracks `cut_info_from_strain` laid last (metres, before snapping: the
-  /// segments through the chosen faces and on into the faces across them), summed in rank order
-  /// (the same sum every run); waits for them only when `apply_cut_info` has not.
-  double tear_length();
 
   /// §2.2–2.4: applies the cut info to `cloth` in place. Returns false when it splits nothing (the
   /// cloth is left as it was). With `summary` false, `stats`' counts of edge points, cut edges and
@@ -157,8 +138,6 @@ class Remesher {
   TemporaryAllocator<System> alloc_;  // Thrust's sort and scan buffers, reused cut after cut
   ReadBack<System> read_back_;        // a cut's totals (and a tear's crack lengths), read in one wait
   Upload<System> upload_;             // a cut's paths, sent without waiting
-  std::size_t crack_lengths_at_ = 0;  // where in `read_back_` the last tear's lengths are
-  index_t crack_count_ = 0;           //   and how many
   vec<kernels::SplitCase> table_;
 
   // The frame's cuts.
@@ -173,11 +152,6 @@ class Remesher {
   vec<std::int8_t> face_snap_edge_;
   CutInfo<System> info_;
 
-  // Tearing: each face's stretch, the faces chosen and their cracks' lengths.
-  vec<double> face_stretch_, crack_length_;
-  vec<std::uint8_t> face_chosen_;
-  vec<index_t> tear_faces_;
-
   // §2.2, §2.3 counts and offsets: the nodes' extra copies, then edge points', then face points',
   // in one array; new faces per face.
   vec<index_t> point_new_offset_, face_new_face_offset_;
@@ -189,7 +163,16 @@ class Remesher {
   vec<float> node_source_weight_;
   std::array<vec<float>, kernels::NodeAttributes::value_capacity> new_node_values_;
   std::array<vec<std::uint8_t>, kernels::NodeAttributes::flag_capacity> new_node_flags_;
-  std::array<vec<index_t>, kernels::FaceAttributes::capacity> new_face_values_;
+  std::array<vec<index_t>, kernels::FaceAttributes::capacity> new_face_index_values_;
+  std::array<vec<float>, kernels::FaceAttributes::capacity> new_face_float_values_;
+  /// The new face values of the table's face attributes of type T, by slot.
+  template <class T>
+  std::array<vec<T>, kernels::FaceAttributes::capacity>& new_face_values() {
+    if constexpr (std::is_same<T, float>::value)
+      return new_face_float_values_;
+    else
+      return new_face_index_values_;
+  }
   std::array<vec<float>, 3> new_corner_values_;
 };
 
@@ -254,7 +237,6 @@ bool Remesher<System>::cut_info_from_paths(const DeviceCloth<System>& cloth, con
   const auto& topo = cloth.topo;
   const index_t f_count = topo.face_count;
   read_back_.clear();
-  crack_count_ = 0;
   upload_cuts(cuts);
   if (cut_paths_.empty() || f_count == 0) return false;
   const bool has_uv = !cloth.corner_uv.empty();
@@ -272,76 +254,6 @@ bool Remesher<System>::cut_info_from_paths(const DeviceCloth<System>& cloth, con
   clock.mark<System>(CutStage::intersection);
   resolve_cut_info(cloth, options, clock);
   return true;
-}
-
-template <class System>
-bool Remesher<System>::cut_info_from_strain(const DeviceCloth<System>& cloth, const TearingOptions& tearing,
-                                            const CutOptions& options, TearCut& torn, StageClock& clock) {
-  using namespace kernels;
-  torn = TearCut{};
-  read_back_.clear();
-  crack_count_ = 0;
-  const auto& topo = cloth.topo;
-  const index_t f_count = topo.face_count;
-  if (!tearing.enabled() || f_count == 0) return false;
-  const auto policy = Traits<System>::policy(alloc_);
-  const thrust::counting_iterator<index_t> zero(0);
-  // Each face's stretch written in one pass (computed inline in the choice below, each face's
-  // would be computed again by every neighbour).
-  resize_for_overwrite(face_stretch_, f_count);
-  for_each_index(f_count, write_face_stretch{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
-                                             raw<float>(cloth.node_pos), raw<double>(face_stretch_)});
-
-  // The faces that tear: over the limit and first among the faces sharing a node with them, at
-  // most `max_faces_per_step` of them (by rank). No order depends on the threads: the choice is a
-  // comparison of each face with its neighbours, the compaction is stable and the rank a total order.
-  // A face under the limit looks at no neighbour, so where nothing is over the limit this costs
-  // what a count of the faces over it would, and the compaction's count is the one read-back.
-  resize_for_overwrite(face_chosen_, f_count);
-  for_each_index(f_count, choose_tearing_faces{raw<index_t>(cloth.face_nodes), raw<index_t>(topo.node_face_offset),
-                                               raw<index_t>(topo.node_faces), raw<double>(face_stretch_),
-                                               tearing.stretch, raw<std::uint8_t>(face_chosen_)});
-  resize_for_overwrite(tear_faces_, f_count);
-  const auto chosen_end =
-      thrust::copy_if(policy, zero, zero + f_count, tear_faces_.begin(), is_chosen{raw<std::uint8_t>(face_chosen_)});
-  index_t count = static_cast<index_t>(chosen_end - tear_faces_.begin());
-  if (count > tearing.max_faces_per_step) {
-    thrust::sort(policy, tear_faces_.begin(), tear_faces_.begin() + count, by_tear_rank{raw<double>(face_stretch_)});
-    count = tearing.max_faces_per_step;
-  }
-  if (count == 0) return false;
-
-  // The cracks as crossings, as `intersect_cuts` writes a cut's.
-  resize_for_overwrite(half_hit_sum_, 3 * std::size_t(f_count));
-  resize_for_overwrite(half_hit_count_, 3 * std::size_t(f_count));
-  resize_for_overwrite(face_pairs_, f_count);
-  for_each_index(f_count, clear_crossings{raw<double>(half_hit_sum_), raw<index_t>(half_hit_count_),
-                                         raw<std::uint16_t>(face_pairs_)});
-  resize_for_overwrite(crack_length_, count);
-  for_each_index(
-      count,
-      write_cracks{raw<index_t>(tear_faces_), raw<index_t>(cloth.face_nodes), raw<index_t>(topo.face_edges),
-                   raw<index_t>(topo.edge_faces), raw<std::uint8_t>(topo.node_boundary), raw<float>(cloth.node_rest),
-                   raw<float>(cloth.node_pos), raw<double>(half_hit_sum_),
-                   raw<index_t>(half_hit_count_), raw<std::uint16_t>(face_pairs_), raw<double>(crack_length_)});
-  clock.mark<System>(CutStage::intersection);
-  // Copied back without waiting: the wait for the cut's counts brings them.
-  crack_lengths_at_ = read_back_.queue(raw<double>(crack_length_), static_cast<std::size_t>(count));
-  crack_count_ = count;
-  torn.faces = count;
-  resolve_cut_info(cloth, options, clock);
-  return true;
-}
-
-template <class System>
-double Remesher<System>::tear_length() {
-  if (crack_count_ == 0) return 0;
-  read_back_.wait();
-  // Summed on the host in rank order: the same sum every run.
-  const double* lengths = read_back_.template at<double>(crack_lengths_at_);
-  double length = 0;
-  for (index_t i = 0; i < crack_count_; ++i) length += lengths[i];
-  return length;
 }
 
 template <class System>
@@ -502,23 +414,31 @@ void Remesher<System>::write_new_faces(DeviceCloth<System>& cloth, const CutOpti
   const index_t f_count = cloth.face_count();
   resize_for_overwrite(new_face_parent_, new_face_count_);
   fill_unwritten(options, new_face_parent_, new_face_count_, index_t(-2));
+  // The table's corner values (interpolated in the parent face) and face values (the parent's).
   CornerAttributes corners;
-  const auto entries = cloth.corner_values();
-  for (std::size_t a = 0; a < entries.size(); ++a) {
-    const auto& [values, comps, unit] = entries[a];
-    auto& next = new_corner_values_[a];
-    resize_for_overwrite(next, values->empty() ? 0 : 3 * std::size_t(comps) * new_face_count_);
-    if (!values->empty()) corners.at[corners.count++] = {raw<float>(*values), raw<float>(next), comps, unit};
-  }
-  static_assert(std::tuple_size<decltype(cloth.corner_values())>::value <= CornerAttributes::capacity);
   FaceAttributes face_values;
-  const auto face_entries = cloth.face_values();
-  static_assert(std::tuple_size<decltype(face_entries)>::value <= FaceAttributes::capacity);
-  for (std::size_t a = 0; a < face_entries.size(); ++a) {
-    auto& next = new_face_values_[a];
-    resize_for_overwrite(next, new_face_count_);
-    face_values.at[face_values.count++] = {raw<index_t>(*face_entries[a]), raw<index_t>(next)};
-  }
+  int corner_slot = 0, face_slot = 0;
+  cloth.for_each_attribute([&](const auto& a, auto& values) {
+    using T = typename std::decay_t<decltype(values)>::value_type;
+    if constexpr (std::is_same<T, float>::value) {
+      if (a.element == Element::corner && a.carry != Carry::written) {
+        auto& next = new_corner_values_[corner_slot++];
+        resize_for_overwrite(next, values.empty() ? 0 : 3 * std::size_t(a.comps) * new_face_count_);
+        if (!values.empty())
+          corners.at[corners.count++] = {raw<float>(values), raw<float>(next), a.comps, a.carry == Carry::unit};
+      }
+    }
+    if constexpr (sizeof(T) == 4) {
+      if (a.element != Element::face || a.carry != Carry::parent) return;
+      auto& next = new_face_values<T>()[face_slot++];
+      resize_for_overwrite(next, values.empty() ? 0 : std::size_t(new_face_count_));
+      if (!values.empty())
+        face_values.at[face_values.count++] = {reinterpret_cast<const std::uint32_t*>(raw<T>(values)),
+                                               reinterpret_cast<std::uint32_t*>(raw<T>(next))};
+    }
+  });
+  if (corner_slot > CornerAttributes::capacity || face_slot > FaceAttributes::capacity)
+    throw runtime_error("remesher: the cloth's table has more carried attributes than the carry holds");
   for_each_index(f_count, kernels::write_new_faces{raw<index_t>(cloth.face_nodes), raw<index_t>(cloth.topo.face_edges),
                                                    raw<std::uint16_t>(info_.face_state), raw<SplitCase>(table_),
                                                    raw<float>(info_.edge_point_t), raw<float>(info_.face_point_bary),
@@ -554,28 +474,37 @@ void Remesher<System>::carry_attributes(DeviceCloth<System>& cloth) {
   // Node values and flags in one pass over the new nodes; face values and corner values were
   // written with the new faces. Then every new array is swapped in.
   NodeAttributes nodes;
-  const auto node_values = cloth.node_values();
-  static_assert(std::tuple_size<decltype(node_values)>::value <= NodeAttributes::value_capacity);
-  for (std::size_t a = 0; a < node_values.size(); ++a) {
-    const auto& [values, comps] = node_values[a];
-    auto& next = new_node_values_[a];
-    resize_for_overwrite(next, std::size_t(comps) * new_node_count_);
-    nodes.values[nodes.value_count++] = {raw<float>(*values), raw<float>(next), comps};
-  }
-  const auto node_flags = cloth.node_flags();
-  static_assert(std::tuple_size<decltype(node_flags)>::value <= NodeAttributes::flag_capacity);
-  for (std::size_t a = 0; a < node_flags.size(); ++a) {
-    auto& next = new_node_flags_[a];
-    resize_for_overwrite(next, new_node_count_);
-    nodes.flags[nodes.flag_count++] = {raw<std::uint8_t>(*node_flags[a]), raw<std::uint8_t>(next)};
-  }
+  int value_slot = 0, flag_slot = 0;
+  cloth.for_each_attribute([&](const auto& a, auto& values) {
+    using T = typename std::decay_t<decltype(values)>::value_type;
+    if (a.element != Element::node) return;
+    if constexpr (std::is_same<T, float>::value) {
+      if (a.carry != Carry::interpolate) return;
+      auto& next = new_node_values_[value_slot++];
+      resize_for_overwrite(next, std::size_t(a.comps) * new_node_count_);
+      nodes.values[nodes.value_count++] = {raw<float>(values), raw<float>(next), a.comps};
+    } else if constexpr (std::is_same<T, std::uint8_t>::value) {
+      if (a.carry != Carry::copy) return;
+      auto& next = new_node_flags_[flag_slot++];
+      resize_for_overwrite(next, new_node_count_);
+      nodes.flags[nodes.flag_count++] = {raw<std::uint8_t>(values), raw<std::uint8_t>(next)};
+    }
+  });
   for_each_index(new_node_count_, carry_node_attributes{raw<index_t>(node_source_), raw<float>(node_source_weight_), nodes});
-  for (std::size_t a = 0; a < node_values.size(); ++a) node_values[a].values->swap(new_node_values_[a]);
-  for (std::size_t a = 0; a < node_flags.size(); ++a) node_flags[a]->swap(new_node_flags_[a]);
-  const auto face_values = cloth.face_values();
-  for (std::size_t a = 0; a < face_values.size(); ++a) face_values[a]->swap(new_face_values_[a]);
-  const auto corner_values = cloth.corner_values();
-  for (std::size_t a = 0; a < corner_values.size(); ++a) corner_values[a].values->swap(new_corner_values_[a]);
+  // Every carried array swapped for its new one, in the table's order (the slots were handed out in it).
+  value_slot = flag_slot = 0;
+  int face_slot = 0, corner_slot = 0;
+  cloth.for_each_attribute([&](const auto& a, auto& values) {
+    using T = typename std::decay_t<decltype(values)>::value_type;
+    if constexpr (std::is_same<T, float>::value) {
+      if (a.element == Element::node && a.carry == Carry::interpolate) values.swap(new_node_values_[value_slot++]);
+      if (a.element == Element::corner && a.carry != Carry::written) values.swap(new_corner_values_[corner_slot++]);
+    }
+    if constexpr (std::is_same<T, std::uint8_t>::value)
+      if (a.element == Element::node && a.carry == Carry::copy) values.swap(new_node_flags_[flag_slot++]);
+    if constexpr (sizeof(T) == 4)
+      if (a.element == Element::face && a.carry == Carry::parent) values.swap(new_face_values<T>()[face_slot++]);
+  });
   cloth.face_nodes.swap(new_face_nodes_);
 }
 

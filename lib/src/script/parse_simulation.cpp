@@ -131,17 +131,60 @@ Collider parse_collider(const Reader& reader, const json& value, const std::stri
   return collider;
 }
 
-/// `tearing`: {"stretch": S, "max_faces_per_step": N}, S required.
+/// A finite number in (lo, hi] with its unit, or the key's default when absent.
+double optional_number(const Reader& reader, const json& object, const std::string& path, const std::string& key,
+                       double lo, double hi, const std::string& unit, double fallback, bool lo_open = true) {
+  if (!object.contains(key)) return fallback;
+  const std::string expected = std::string("a number in ") + (lo_open ? "(" : "[") + shown(lo) + ", " + shown(hi) +
+                               "] (" + unit + ")";
+  return reader.number(object[key], child_path(path, key), expected,
+                       [&](double x) { return (lo_open ? x > lo : x >= lo) && x <= hi; });
+}
+
+/// `tearing.weave`: {"warp": [du, dv], "weft_strength": k}.
+Weave parse_weave(const Reader& reader, const json& value, const std::string& path) {
+  reader.expect_object(value, path, {"warp", "weft_strength"});
+  Weave weave;
+  if (value.contains("warp")) {
+    const auto w = reader.point<2>(value["warp"], child_path(path, "warp"));
+    const double length = std::hypot(w[0], w[1]);
+    if (!(length > 1e-9) || !(length < 1e9))
+      reader.fail(child_path(path, "warp"), "expected a non-zero direction [du, dv] in UV space, got " +
+                                                describe(value["warp"]));
+    weave.warp = {w[0] / length, w[1] / length};
+  }
+  weave.weft_strength =
+      optional_number(reader, value, path, "weft_strength", 0.01, 100, "times the warp's limit", 1.0, false);
+  return weave;
+}
+
+/// `tearing`: {"stretch": S, ...}, S required (docs/simulation.md, *Tearing*).
 TearingOptions parse_tearing(const Reader& reader, const json& value, const std::string& path) {
-  reader.expect_object(value, path, {"stretch", "max_faces_per_step"});
+  reader.expect_object(value, path,
+                       {"stretch", "start", "radius", "step", "min_piece", "max_faces_per_step", "weave",
+                        "seam_strength", "variation", "seed"});
   TearingOptions tearing;
   const std::string stretch_range = "a number in (1, " + shown(limits::max_tear_stretch) + "] (stretch ratio)";
   tearing.stretch = reader.number(reader.member(value, path, "stretch", stretch_range), child_path(path, "stretch"),
                                   stretch_range, [](double x) { return x > 1 && x <= limits::max_tear_stretch; });
+  tearing.start = optional_number(reader, value, path, "start", 1, limits::max_tear_stretch, "stretch ratio", 0);
+  tearing.radius = optional_number(reader, value, path, "radius", 0, 1e4, "metres", tearing.radius);
+  tearing.step = optional_number(reader, value, path, "step", 0, 1e4, "metres", 0);
+  tearing.min_piece = optional_number(reader, value, path, "min_piece", 0, 1e8, "square metres", -1, false);
   if (value.contains("max_faces_per_step"))
     tearing.max_faces_per_step = static_cast<int>(reader.integer(
         value["max_faces_per_step"], child_path(path, "max_faces_per_step"), 1, limits::max_tear_faces_per_step,
-        "an integer in 1.." + std::to_string(limits::max_tear_faces_per_step) + " (faces per substep)"));
+        "an integer in 1.." + std::to_string(limits::max_tear_faces_per_step) + " (crack advances per substep)"));
+  if (value.contains("weave")) {
+    tearing.has_weave = true;
+    tearing.weave = parse_weave(reader, value["weave"], child_path(path, "weave"));
+  }
+  tearing.seam_strength =
+      optional_number(reader, value, path, "seam_strength", 0.01, 100, "times the limit", 1.0, false);
+  tearing.variation = optional_number(reader, value, path, "variation", 0, 0.9, "relative amplitude", 0, false);
+  if (value.contains("seed"))
+    tearing.seed = static_cast<std::uint32_t>(
+        reader.integer(value["seed"], child_path(path, "seed"), 0, 4294967295LL, "an integer in 0..4294967295"));
   return tearing;
 }
 

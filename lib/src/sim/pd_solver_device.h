@@ -4,7 +4,7 @@
 #include <memory>
 
 #include "backend/backend.h"
-#include "cloth/device_cloth.h"
+#include "cloth_data/device_cloth.h"
 #include "sim/pd_solver.h"
 
 namespace tear::backend {

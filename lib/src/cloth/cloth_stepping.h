@@ -1,0 +1,172 @@
+// tear: the step job of the cloth engine: the solver over the cloth's model, frame by frame or
+// substep by substep, with the tearing check after every substep (docs/simulation.md, *Tearing*).
+// Only for device code (the .inl files).
+#pragma once
+
+#include <algorithm>
+#include <memory>
+#include <optional>
+
+#include <thrust/functional.h>
+#include <thrust/iterator/counting_iterator.h>
+#include <thrust/transform_reduce.h>
+
+#include "backend/backend.h"
+#include "cloth/cloth_cutting.h"
+#include "cloth/crack_growth.h"
+#include "cloth_data/device_cloth.h"
+#include "node_identity.h"
+#include "sim/pd_solver_device.h"
+#include "tear/cloth.h"
+#include "tear/error.h"
+#include "tear/simulation_options.h"
+#include "tear_cracks.h"
+
+namespace tear::backend {
+
+template <class System>
+class StepJob {
+ public:
+  /// Starts stepping with `options`; the solver's model is made at the first step.
+  void start(DeviceCloth<System>& cloth, const SimulationOptions& options) {
+    options_ = options;
+    solver_.reset();
+    field_.reset();
+    if (options_.tearing.enabled()) {
+      // The fabric's strength per face, carried by cuts from here on.
+      const std::vector<float> strength =
+          face_strength_field(to_host<float>(cloth.node_rest), to_host<index_t>(cloth.face_nodes), options_.tearing);
+      assign_from_host(cloth.face_strength, strength);
+      min_strength_ = strength.empty() ? 1.0 : *std::min_element(strength.begin(), strength.end());
+    }
+  }
+  /// The mesh changed (a cut, a tear, a loaded checkpoint): the model and crack field are rebuilt.
+  void mesh_changed() {
+    stale_ = true;
+    field_.reset();
+  }
+
+  /// Steps frame `frame` of `cloth`, tearing it through `cutter` between substeps.
+  void step(DeviceCloth<System>& cloth, CutJob<System>& cutter, int frame, TearStats& torn) {
+    torn = TearStats{};
+    if (!options_.tearing.enabled()) {
+      refresh_solver(cloth);
+      solver_->step_in_place(raw<float>(cloth.node_pos), raw<float>(cloth.node_vel), frame);
+      return;
+    }
+    // Torn between substeps: the next substep steps the torn cloth with its new model. Marks in
+    // the backend's queue time the parts, read once the step's work is done.
+    const int substeps = options_.substeps;
+    if (mark_count_ < substeps) {
+      marks_ = std::make_unique<StepMarks[]>(static_cast<std::size_t>(substeps));
+      mark_count_ = substeps;
+    }
+    for (int s = 0; s < substeps; ++s) {
+      StepMarks& m = marks_[s];
+      m.rebuilt = !solver_ || stale_;
+      if (m.rebuilt) m.rebuild_start.record();
+      refresh_solver(cloth);
+      if (m.rebuilt) m.rebuild_end.record();
+      m.substep_start.record();
+      solver_->step_substep_in_place(raw<float>(cloth.node_pos), raw<float>(cloth.node_vel), frame, s);
+      m.substep_end.record();
+      m.applied = tear(cloth, cutter, m, torn);
+    }
+    Traits<System>::synchronize();
+    for (int s = 0; s < substeps; ++s) {
+      const StepMarks& m = marks_[s];
+      if (m.rebuilt) torn.rebuild_ms += QueueMark::elapsed_ms(m.rebuild_start, m.rebuild_end);
+      torn.solver_ms += QueueMark::elapsed_ms(m.substep_start, m.substep_end);
+      torn.check_ms += QueueMark::elapsed_ms(m.substep_end, m.check_end);
+      if (m.applied) torn.apply_ms += QueueMark::elapsed_ms(m.check_end, m.apply_end);
+    }
+  }
+
+ private:
+  using QueueMark = typename Traits<System>::QueueMark;
+  /// A torn substep's parts, marked in the backend's queue: the model's rebuild (where the mesh
+  /// changed), the substep, the check, the tear's application (where the cloth tore).
+  struct StepMarks {
+    QueueMark rebuild_start, rebuild_end, substep_start, substep_end, check_end, apply_end;
+    bool rebuilt = false, applied = false;
+  };
+
+  void refresh_solver(const DeviceCloth<System>& cloth) {
+    if (solver_ && !stale_) return;
+    if (solver_)
+      rebuild_pd_solver<System>(*solver_, cloth);  // in the old model's memory, grown where needed
+    else
+      solver_ = make_pd_solver<System>(cloth, options_);
+    stale_ = false;
+  }
+
+  /// The largest stretch no limit can be under: where no face passes it, nothing tears.
+  double quiet_limit() const {
+    const TearingOptions& t = options_.tearing;
+    double k = std::min(1.0, t.seam_strength);
+    if (t.has_weave) k = std::min(k, t.weave.weft_strength);
+    return std::min(t.stretch, t.start_stretch()) * min_strength_ * k;
+  }
+
+  /// Grows the cracks where the stretch around them passes the limits (crack_growth.h). The
+  /// faces' largest stretch is reduced on the backend and read back: below `quiet_limit` that is
+  /// all. Returns whether the cloth tore.
+  bool tear(DeviceCloth<System>& cloth, CutJob<System>& cutter, StepMarks& m, TearStats& torn) {
+    const thrust::counting_iterator<index_t> zero(0);
+    const double largest = thrust::transform_reduce(
+        Traits<System>::policy(), zero, zero + cloth.face_count(),
+        kernels::face_stretch_of{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest), raw<float>(cloth.node_pos)},
+        0.0, thrust::maximum<double>());
+    if (!(largest > quiet_limit())) {
+      m.check_end.record();
+      return false;
+    }
+    if (!field_) field_.emplace(crack_mesh(cloth), options_.tearing);
+    const CrackPlan plan = field_->plan(to_host<float>(cloth.node_pos));
+    m.check_end.record();
+    if (plan.cuts.empty()) return false;
+    CutOptions cut_options;
+    cut_options.snap = options_.tearing.snap;
+    CutStats stats;
+    StageClock clock(false, stats.stage_ms.data());
+    Remesher<System>& remesher = cutter.remesher();
+    if (remesher.cut_info_from_paths(cloth, plan.cuts, cut_options, clock) &&
+        remesher.apply_cut_info(cloth, cut_options, stats, clock, false)) {
+      cutter.reapply_box_pins(cloth);
+      mesh_changed();
+      torn.events += plan.events;
+      torn.length += plan.length;
+    }
+    m.apply_end.record();
+    return true;
+  }
+
+  /// What crack growth reads of the cloth, on the host.
+  static CrackMesh crack_mesh(const DeviceCloth<System>& c) {
+    CrackMesh mesh;
+    mesh.node_rest = to_host<float>(c.node_rest);
+    mesh.face_nodes = to_host<index_t>(c.face_nodes);
+    mesh.corner_uv = to_host<float>(c.corner_uv);
+    mesh.face_strength = to_host<float>(c.face_strength);
+    mesh.topo = download(c.topo);
+    const std::vector<index_t> face_origin = to_host<index_t>(c.face_origin);
+    const std::vector<float> corner_origin = to_host<float>(c.corner_origin);
+    const std::vector<std::uint8_t> input_border = to_host<std::uint8_t>(c.input_face_border);
+    mesh.corner_torn.resize(3 * std::size_t(mesh.topo.face_count));
+    const kernels::mark_torn_corners mark{mesh.topo.face_edges.data(), mesh.topo.edge_faces.data(),
+                                          face_origin.data(), corner_origin.data(), input_border.data(),
+                                          mesh.corner_torn.data()};
+    for (index_t corner = 0; corner < 3 * mesh.topo.face_count; ++corner) mark(corner);
+    return mesh;
+  }
+
+  SimulationOptions options_;
+  std::unique_ptr<PdSolver::Impl> solver_;  // the model of the mesh it was built for
+  bool stale_ = false;                      // the mesh changed since
+  std::optional<CrackField> field_;         // crack growth's view of the rest mesh, while it holds
+  double min_strength_ = 1;
+  std::unique_ptr<StepMarks[]> marks_;  // [mark_count_], one per substep
+  int mark_count_ = 0;
+};
+
+}  // namespace tear::backend

@@ -1,0 +1,107 @@
+// tear: where the cloth's cracks grow in one substep (docs/simulation.md, *Tearing*), as cut
+// paths for the remesher's first half.
+//
+// A crack is a slit in the rest shape; its tips are the border nodes the cloth surrounds all but
+// fully (rest angle sum over 1.5π: the end of a slit). After a substep each tip looks at the
+// stretch smoothed over a disc of `radius` around it in the rest shape, not at the one face there:
+// when that passes the limit (times the fabric's strength there, along the thread or seam it runs
+// on) the tip advances by `step` across the smoothed principal direction, or joins the border or
+// crack it comes within `radius` of, unless that would cut off a piece under `min_piece`. Where no
+// tip is near, the most stretched place over `start` starts one crack, from the border when it is
+// within `radius`. Each advance is a straight rest-space cut, so the path does not follow the
+// triangles, and the same scene tears the same way at any resolution.
+//
+// Example: a 1 m sheet with a slit from (0.5, 0) to (0.5, 0.25) pulled apart along x: the slit's
+// end is the one tip; the smoothed stretch there is across x, so the tip advances along +y by
+// `step` (one cut from (0.5, 0.25) to (0.5, 0.25 + step)), substep after substep, until it comes
+// within `radius` of the top border and joins it: two pieces.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "tear/cloth.h"
+#include "tear/mesh.h"
+#include "tear/simulation_options.h"
+#include "tear/topology.h"
+
+namespace tear {
+
+/// The cloth as crack growth reads it, on the host: the rest mesh and what is derived from it
+/// (kept while the mesh does not change) and the current positions.
+struct CrackMesh {
+  std::vector<float> node_rest;       ///< [node_count * 3]
+  std::vector<index_t> face_nodes;    ///< [face_count * 3]
+  std::vector<float> corner_uv;       ///< [face_count * 6] or empty
+  std::vector<float> face_strength;   ///< [face_count] or empty (1)
+  std::vector<std::uint8_t> corner_torn;  ///< [face_count * 3] the edge from corner c is a cut or tear
+  Topology topo;
+};
+
+/// What one substep's growth cuts: the paths, and what the report counts.
+struct CrackPlan {
+  std::vector<CutLine> cuts;
+  int events = 0;       ///< tips advanced or joined, and cracks started
+  double length = 0;    ///< rest length of the paths, metres
+};
+
+/// Everything of the rest mesh crack growth looks up, built once per mesh.
+class CrackField {
+ public:
+  CrackField(CrackMesh mesh, const TearingOptions& options);
+
+  /// The cuts of this substep for positions `node_pos` [node_count * 3].
+  CrackPlan plan(const std::vector<float>& node_pos) const;
+
+  /// The rest stretch tensor smoothed over the disc of `radius` around `p` (area weighted, 3×3
+  /// symmetric as xx yy zz xy xz yz), and the mean strength there. Public for the tests.
+  void smoothed(const std::array<double, 3>& p, const std::vector<double>& face_tensor, double* tensor,
+                double* strength) const;
+  /// Per face: its stretch tensor in rest coordinates (6 values), for `smoothed`.
+  std::vector<double> face_tensors(const std::vector<float>& node_pos) const;
+  /// The crack tips: border nodes whose rest angle sum passes 1.5π.
+  const std::vector<index_t>& tips() const { return tips_; }
+
+ private:
+  struct Tip;
+  using Vec3 = std::array<double, 3>;
+  Vec3 rest(index_t n) const;
+  void build_grid();
+  void build_border();
+  template <class F>
+  void faces_near(const Vec3& p, double r, F&& f) const;
+  /// The path of `tip`'s advance this substep, if it advances; `ratio` its opening stretch over its
+  /// limit (0 when it is held back by `min_piece`).
+  bool advance(const Tip& tip, const std::vector<double>& tensors, std::vector<Vec3>& path, bool& joined,
+               double& ratio) const;
+  bool start(const std::vector<double>& tensors, const std::vector<double>& stretch, std::vector<Vec3>& path) const;
+  /// The nearest point of a border edge not within `exclude_walk` of node `from` along the border,
+  /// ahead of `p` along `d` (or anywhere with `d` null), within `reach`; false when none.
+  bool nearest_border(const Vec3& p, const Vec3* d, double reach, index_t from, Vec3& point, index_t& edge) const;
+  /// The smaller rest area of the two sides a cut from border node `tip` to border edge `edge`
+  /// would leave, or a huge value when they are on different loops (nothing is cut off).
+  double piece_cut_off(index_t tip, const Vec3& point, index_t edge) const;
+  Vec3 thread_direction(index_t face, double du, double dv) const;
+
+  CrackMesh m_;
+  TearingOptions options_;
+  std::vector<Vec3> face_centroid_, face_normal_;
+  std::vector<double> face_area_, node_angle_;
+  std::vector<index_t> border_next_, border_prev_;  // [node_count] along the border, or -1
+  std::vector<index_t> border_edges_;
+  std::vector<std::uint8_t> edge_seam_, node_near_tip_;
+  std::vector<index_t> tips_;
+  // Faces by grid cell of side `radius` over their rest centroids: sorted cell keys and faces.
+  std::vector<std::int64_t> cell_key_;
+  std::vector<index_t> cell_face_;
+  double cell_ = 1;
+  double total_area_ = 0;
+};
+
+/// The factor on the limits per face from `variation` and `seed`: a value noise of feature size
+/// `radius` over the rest centroids, 1 + variation × noise in [-1, 1]; all 1 without variation.
+std::vector<float> face_strength_field(const std::vector<float>& node_rest, const std::vector<index_t>& face_nodes,
+                                       const TearingOptions& options);
+
+}  // namespace tear

@@ -1,0 +1,378 @@
+// Cracks that run from their tips over the stretch smoothed around them (lib/src/cloth/crack_growth.h,
+// docs/simulation.md, *Tearing*): the tip of a slit, the smoothed stretch, and whole pulls that
+// must tear the same way at two resolutions and on regular and jittered sheets, once and straight,
+// at a neck, along the weft and along a weak seam, and stop where the stress is gone.
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include "catch.h"
+#include "cloth/crack_growth.h"
+#include "remesh_checks.h"
+#include "tear/cloth.h"
+#include "tear/cut_script.h"
+#include "tear/make_sheet.h"
+#include "tear/run_cuts.h"
+#include "tear/validate_mesh.h"
+#include "test_support.h"
+
+namespace {
+
+using tear::index_t;
+constexpr double pi = 3.14159265358979323846;
+
+/// Pieces (connected through faces) of a mesh: per face, its piece; `count` of them.
+std::vector<index_t> face_pieces(const tear::Mesh& m, index_t& count) {
+  std::vector<index_t> parent(static_cast<std::size_t>(m.node_count()));
+  std::iota(parent.begin(), parent.end(), 0);
+  const auto find = [&](index_t n) {
+    while (parent[n] != n) n = parent[n] = parent[parent[n]];
+    return n;
+  };
+  for (std::size_t f = 0; f < m.face_nodes.size(); f += 3)
+    for (int k = 1; k < 3; ++k) {
+      const index_t a = find(m.face_nodes[f]), b = find(m.face_nodes[f + k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  std::vector<index_t> root(m.face_count()), ids;
+  for (index_t f = 0; f < m.face_count(); ++f) root[f] = find(m.face_nodes[3 * f]);
+  ids = root;
+  std::sort(ids.begin(), ids.end());
+  ids.erase(std::unique(ids.begin(), ids.end()), ids.end());
+  for (index_t& r : root) r = static_cast<index_t>(std::lower_bound(ids.begin(), ids.end(), r) - ids.begin());
+  count = static_cast<index_t>(ids.size());
+  return root;
+}
+
+double face_area(const std::vector<float>& p, const index_t* f) {
+  double e1[3], e2[3];
+  for (int d = 0; d < 3; ++d) {
+    e1[d] = p[3 * f[1] + d] - p[3 * f[0] + d];
+    e2[d] = p[3 * f[2] + d] - p[3 * f[0] + d];
+  }
+  const double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+  return 0.5 * std::sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+}
+
+/// What a pull leaves, measured in the rest shape.
+struct Torn {
+  index_t pieces = 0;
+  double smallest_piece = 0;              ///< fraction of the rest area, over every frame
+  double worst_inverted = 0;              ///< fraction of faces folded over, over every frame
+  double smallest_angle = 180;            ///< degrees, rest shape, over every frame
+  double shortest_edge = 1e9;             ///< metres, rest shape, over every frame
+  index_t events = 0, late_events = 0;    ///< tear events, and those in the last `quiet` frames
+  std::vector<std::array<double, 2>> boundary;  ///< torn edges' rest points (sampled), final frame
+  double torn_length = 0;                 ///< one side's rest length of the torn edges, final frame
+  std::vector<float> rest;
+  tear::Mesh mesh;
+  std::vector<index_t> piece;
+};
+
+Torn run(const tear::Mesh& sheet, const std::string& script_text, int frames, int quiet = 0) {
+  const tear::CutScript script = tear::parse_cut_script(script_text, "pull.json");
+  tear::Cloth cloth(sheet, tear::test::test_device());
+  Torn t;
+  const double area = tear::test::total_area(sheet);
+  t.smallest_piece = 1;
+  tear::run_cuts(cloth, script, frames, [&](const tear::FrameResult& frame, const tear::Cloth& c) {
+    t.events += frame.tear_events;
+    if (frame.frame > frames - quiet) t.late_events += frame.tear_events;
+    const tear::Mesh m = c.mesh();
+    const std::vector<float> rest = c.node_rest();
+    index_t count = 0;
+    const std::vector<index_t> piece = face_pieces(m, count);
+    std::vector<double> piece_area(count, 0.0);
+    index_t inverted = 0;
+    for (index_t f = 0; f < m.face_count(); ++f) {
+      const index_t* fn = &m.face_nodes[3 * f];
+      piece_area[piece[f]] += face_area(rest, fn);
+      // Folded over: the current normal against the rest normal (the sheets lie in z = 0 at rest).
+      const auto nz = [&](const std::vector<float>& p) {
+        return (p[3 * fn[1]] - p[3 * fn[0]]) * (p[3 * fn[2] + 1] - p[3 * fn[0] + 1]) -
+               (p[3 * fn[1] + 1] - p[3 * fn[0] + 1]) * (p[3 * fn[2]] - p[3 * fn[0]]);
+      };
+      if (nz(m.node_pos) * nz(rest) < 0) ++inverted;
+      for (int k = 0; k < 3; ++k) {
+        double a[3], b[3];
+        for (int d = 0; d < 3; ++d) {
+          a[d] = rest[3 * fn[(k + 1) % 3] + d] - rest[3 * fn[k] + d];
+          b[d] = rest[3 * fn[(k + 2) % 3] + d] - rest[3 * fn[k] + d];
+        }
+        const double la = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+        const double lb = std::sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+        const double cosine = (a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / (la * lb);
+        t.smallest_angle = std::min(t.smallest_angle, std::acos(std::max(-1.0, std::min(1.0, cosine))) * 180 / pi);
+        t.shortest_edge = std::min(t.shortest_edge, la);
+      }
+    }
+    for (double a : piece_area) t.smallest_piece = std::min(t.smallest_piece, a / area);
+    t.worst_inverted = std::max(t.worst_inverted, double(inverted) / m.face_count());
+  });
+  t.mesh = cloth.mesh();
+  t.rest = cloth.node_rest();
+  t.piece = face_pieces(t.mesh, t.pieces);
+  for (std::size_t e = 0; e + 1 < t.mesh.torn_edge_nodes.size(); e += 2) {
+    const index_t a = t.mesh.torn_edge_nodes[e], b = t.mesh.torn_edge_nodes[e + 1];
+    const double ax = t.rest[3 * a], ay = t.rest[3 * a + 1], bx = t.rest[3 * b], by = t.rest[3 * b + 1];
+    const double length = std::hypot(bx - ax, by - ay);
+    t.torn_length += 0.5 * length;
+    const int samples = 1 + static_cast<int>(length / 0.002);
+    for (int s = 0; s <= samples; ++s) {
+      const double u = double(s) / samples;
+      t.boundary.push_back({ax + u * (bx - ax), ay + u * (by - ay)});
+    }
+  }
+  return t;
+}
+
+/// The Hausdorff distance between two sampled boundaries (metres).
+double hausdorff(const std::vector<std::array<double, 2>>& a, const std::vector<std::array<double, 2>>& b) {
+  const auto one_way = [](const auto& p, const auto& q) {
+    double worst = 0;
+    for (const auto& x : p) {
+      double best = 1e18;
+      for (const auto& y : q) best = std::min(best, std::hypot(x[0] - y[0], x[1] - y[1]));
+      worst = std::max(worst, best);
+    }
+    return worst;
+  };
+  return std::max(one_way(a, b), one_way(b, a));
+}
+
+/// The torn boundary's points away from `skip` (the notch: the points with x within 1 mm of 0.5
+/// below y = 0.25), for comparing the cracks alone.
+std::vector<std::array<double, 2>> crack_points(const Torn& t) {
+  std::vector<std::array<double, 2>> out;
+  for (const auto& p : t.boundary)
+    if (!(std::abs(p[0] - 0.5) < 1e-3 && p[1] < 0.25)) out.push_back(p);
+  return out;
+}
+
+constexpr int pull_frames = 24;
+
+/// The notched pull of test_tearing.cpp: the slit from the bottom border to (0.5, 0.25), the left
+/// and right strips pulled 0.15 m apart each over `pull_frames` frames; `tearing` the block's keys.
+std::string notched_pull(const std::string& tearing) {
+  return R"({"version": 1, "frames": 24,
+    "cuts": [{"frame": 1, "space": "rest-xy", "polyline": [[0.5, -0.1], [0.5, 0.25]]}],
+    "simulation": {"gravity": [0, 0, 0], "substeps": 4, "iterations": 40,
+      "pins": [
+        {"box": {"min": [-1, -1, -1], "max": [0.04, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 24, "offset": [-0.15, 0, 0]}]},
+        {"box": {"min": [0.96, -1, -1], "max": [2, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 24, "offset": [0.15, 0, 0]}]}],
+      "tearing": {)" +
+         tearing + "}}}";
+}
+
+tear::Mesh sheet(index_t faces, bool irregular) {
+  tear::SheetOptions options;
+  options.face_count = faces;
+  options.irregular = irregular;
+  return tear::make_sheet(options);
+}
+
+/// The mesh's median rest edge length.
+double median_edge(const tear::Mesh& m) {
+  std::vector<double> lengths;
+  for (index_t f = 0; f < m.face_count(); ++f)
+    for (int k = 0; k < 3; ++k) {
+      const index_t a = m.face_nodes[3 * f + k], b = m.face_nodes[3 * f + (k + 1) % 3];
+      lengths.push_back(std::hypot(m.node_pos[3 * a] - m.node_pos[3 * b], m.node_pos[3 * a + 1] - m.node_pos[3 * b + 1]));
+    }
+  std::nth_element(lengths.begin(), lengths.begin() + lengths.size() / 2, lengths.end());
+  return lengths[lengths.size() / 2];
+}
+
+void check_clean(const Torn& t, const tear::Mesh& input) {
+  CHECK(t.smallest_piece >= 0.01);  // no shred in any frame
+  CHECK(t.worst_inverted <= 0.001);
+  CHECK(t.smallest_angle >= 1.5);  // the scripted cut's guarantee (docs/remesher.md)
+  CHECK(t.shortest_edge >= 0.1 * median_edge(input));
+}
+
+}  // namespace
+
+TEST_CASE("crack growth: a slit's end is its one tip, and a uniform stretch smooths to itself", "[tearing]") {
+  tear::Cloth cloth(sheet(800, true), tear::test::test_device());
+  tear::CutLine line;
+  line.polyline = {{0.5, -0.1}, {0.5, 0.25}};
+  cloth.cut({line}, tear::CutOptions{});
+  tear::CrackMesh mesh;
+  mesh.node_rest = cloth.node_rest();
+  mesh.face_nodes = cloth.face_nodes();
+  mesh.topo = cloth.topology();
+  mesh.corner_torn.assign(mesh.face_nodes.size(), 0);
+  tear::TearingOptions options;
+  options.stretch = 1.1;
+  const tear::CrackField field(mesh, options);
+  REQUIRE(field.tips().size() == 1);
+  const index_t tip = field.tips()[0];
+  CHECK(mesh.node_rest[3 * tip] == Approx(0.5).margin(0.02));
+  CHECK(mesh.node_rest[3 * tip + 1] == Approx(0.25).margin(0.05));
+  // Stretched by 1.2 along x: the smoothed tensor is diag(1.44, 1, 0) anywhere.
+  std::vector<float> pos = mesh.node_rest;
+  for (std::size_t n = 0; n < pos.size(); n += 3) pos[n] *= 1.2f;
+  const std::vector<double> T = field.face_tensors(pos);
+  double S[6], strength = 0;
+  field.smoothed({0.3, 0.6, 0}, T, S, &strength);
+  CHECK(S[0] == Approx(1.44).epsilon(1e-4));
+  CHECK(S[1] == Approx(1.0).epsilon(1e-4));
+  CHECK(S[3] == Approx(0.0).margin(1e-4));
+  CHECK(strength == 1.0);
+  // Over the limit: the tip runs on across the stretch, straight up from the slit.
+  const tear::CrackPlan plan = field.plan(pos);
+  REQUIRE(plan.cuts.size() == 1);
+  const auto& p = plan.cuts[0].polyline;
+  const auto& u = plan.cuts[0].axis_u;
+  const auto& v = plan.cuts[0].axis_v;
+  const double dx = (p.back()[0] - p.front()[0]) * u[0] + (p.back()[1] - p.front()[1]) * v[0];
+  const double dy = (p.back()[0] - p.front()[0]) * u[1] + (p.back()[1] - p.front()[1]) * v[1];
+  CHECK(dy > 0);
+  CHECK(std::abs(dx) < 0.05 * dy);
+  // Under it: nothing.
+  std::vector<float> slack = mesh.node_rest;
+  for (std::size_t n = 0; n < slack.size(); n += 3) slack[n] *= 1.05f;
+  CHECK(field.plan(slack).cuts.empty());
+}
+
+TEST_CASE("crack growth: a notched pull tears the same way at two resolutions, regular and jittered",
+          "[tearing][quality]") {
+  const std::string keys = R"("stretch": 1.3)";
+  struct Case {
+    const char* name;
+    index_t faces;
+    bool irregular;
+  };
+  const Case cases[] = {{"jittered 800", 800, true}, {"jittered 3200", 3200, true}, {"regular 800", 800, false}};
+  std::vector<Torn> torn;
+  for (const Case& c : cases) {
+    INFO(c.name);
+    const tear::Mesh input = sheet(c.faces, c.irregular);
+    torn.push_back(run(input, notched_pull(keys), pull_frames, 4));
+    const Torn& t = torn.back();
+    CHECK(t.pieces == 2);
+    // The left and right strips in different pieces.
+    index_t left = -1, right = -1;
+    for (index_t f = 0; f < t.mesh.face_count(); ++f) {
+      const float x = t.rest[3 * t.mesh.face_nodes[3 * f]];
+      if (x < 0.02f) left = t.piece[f];
+      if (x > 0.98f) right = t.piece[f];
+    }
+    CHECK(left != right);
+    check_clean(t, input);
+    // From the notch's tip to the top border, nearly straight: the crack's length against the
+    // straight line (0.75 m) and the whole torn length against the path that separates.
+    const double crack = t.torn_length - 0.25;
+    CHECK(crack <= 1.15 * 0.75 * 1.02);
+    CHECK(t.torn_length <= 1.3 * 1.0);
+    CHECK(t.late_events == 0);  // separated: the halves move freely and tear no more
+  }
+  for (std::size_t i = 0; i < torn.size(); ++i)
+    for (std::size_t j = i + 1; j < torn.size(); ++j) {
+      INFO(cases[i].name << " against " << cases[j].name);
+      CHECK(hausdorff(crack_points(torn[i]), crack_points(torn[j])) <= 0.02);
+    }
+}
+
+TEST_CASE("crack growth: a strip pulled at its ends breaks once, straight, and at its neck when it has one",
+          "[tearing][quality]") {
+  // A 1 × 0.3 m strip; with a neck, its width narrowed to 0.18 m around x = 0.3.
+  const auto strip = [](bool neck) {
+    tear::Mesh m = sheet(1600, true);
+    for (std::size_t n = 0; n < m.node_pos.size(); n += 3) {
+      const double x = m.node_pos[n], y = m.node_pos[n + 1];
+      const double width = 0.3 * (neck ? 1 - 0.4 * std::exp(-std::pow((x - 0.3) / 0.12, 2)) : 1.0);
+      m.node_pos[n + 1] = static_cast<float>(0.15 + (y - 0.5) * width);
+    }
+    return m;
+  };
+  const std::string script = R"({"version": 1, "frames": 24, "simulation": {"gravity": [0, 0, 0], "substeps": 4,
+    "iterations": 40, "pins": [
+      {"box": {"min": [-1, -1, -1], "max": [0.04, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 24, "offset": [-0.25, 0, 0]}]},
+      {"box": {"min": [0.96, -1, -1], "max": [2, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 24, "offset": [0.25, 0, 0]}]}],
+    "tearing": {"stretch": 1.3}}})";
+  for (bool neck : {false, true}) {
+    INFO((neck ? "with a neck" : "uniform"));
+    const tear::Mesh input = strip(neck);
+    const Torn t = run(input, script, pull_frames, 4);
+    CHECK(t.pieces == 2);
+    check_clean(t, input);
+    REQUIRE_FALSE(t.boundary.empty());
+    double lo_x = 1e9, hi_x = -1e9, lo_y = 1e9, hi_y = -1e9;
+    for (const auto& p : t.boundary) {
+      lo_x = std::min(lo_x, p[0]);
+      hi_x = std::max(hi_x, p[0]);
+      lo_y = std::min(lo_y, p[1]);
+      hi_y = std::max(hi_y, p[1]);
+    }
+    // One crack across: its length against the straight line between its ends.
+    const double straight = std::hypot(hi_x - lo_x, hi_y - lo_y);
+    INFO("torn " << t.torn_length << " m, ends " << straight << " m, x in [" << lo_x << ", " << hi_x << "]");
+    CHECK(t.torn_length <= 1.15 * straight);
+    if (neck) CHECK(std::abs(0.5 * (lo_x + hi_x) - 0.3) <= 0.06);
+  }
+}
+
+TEST_CASE("crack growth: a woven sheet tears along its weft, a weak seam opens", "[tearing][quality]") {
+  SECTION("grain: a crack whose stretch runs 30 degrees off the weft runs along the weft") {
+    // Pulled at 30 degrees from the warp (y): the crack across that runs 30 degrees off the weft
+    // (x). A slit from the left border at y = 0.5 starts it.
+    const double s = std::sin(pi / 6) * 0.12, c = std::cos(pi / 6) * 0.12;
+    const auto offset = [](double x, double y) { return "[" + std::to_string(x) + ", " + std::to_string(y) + ", 0]"; };
+    const std::string script = R"({"version": 1, "frames": 24,
+      "cuts": [{"frame": 1, "space": "rest-xy", "polyline": [[-0.1, 0.5], [0.2, 0.5]]}],
+      "simulation": {"gravity": [0, 0, 0], "substeps": 4, "iterations": 40, "pins": [
+        {"box": {"min": [-1, -1, -1], "max": [2, 0.04, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 24, "offset": )" +
+                               offset(-s, -c) + R"(}]},
+        {"box": {"min": [-1, 0.96, -1], "max": [2, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 24, "offset": )" +
+                               offset(s, c) + R"(}]}],
+      "tearing": {"stretch": 1.3, "weave": {"warp": [0, 1], "weft_strength": 0.9}}}})";
+    const tear::Mesh input = sheet(1600, true);
+    const Torn t = run(input, script, pull_frames);
+    CHECK(t.pieces == 2);
+    // The crack's direction: the line through its points (the slit's, y = 0.5 with x < 0.2, left out).
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    int n = 0;
+    for (const auto& p : t.boundary) {
+      if (p[0] < 0.2 + 1e-3 && std::abs(p[1] - 0.5) < 1e-3) continue;
+      sx += p[0], sy += p[1], sxx += p[0] * p[0], sxy += p[0] * p[1], ++n;
+    }
+    REQUIRE(n > 10);
+    const double slope = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+    const double angle = std::atan(slope) * 180 / pi;
+    INFO("crack at " << angle << " degrees from the weft");
+    CHECK(std::abs(angle) <= 3);
+  }
+  SECTION("seam: a regular sheet with a UV seam along x = 0.25, pulled apart along x, opens along it") {
+    tear::Mesh input = sheet(800, false);
+    // The UVs of the faces right of x = 0.25 moved by half a tile: a seam on the grid line.
+    for (index_t f = 0; f < input.face_count(); ++f) {
+      double cx = 0;
+      for (int k = 0; k < 3; ++k) cx += input.node_pos[3 * input.face_nodes[3 * f + k]] / 3;
+      if (cx > 0.25)
+        for (int k = 0; k < 3; ++k) input.corner_uv[6 * f + 2 * k] += 0.5f;
+    }
+    const std::string script = R"({"version": 1, "frames": 24, "simulation": {"gravity": [0, 0, 0], "substeps": 4,
+      "iterations": 40, "pins": [
+        {"box": {"min": [-1, -1, -1], "max": [0.04, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 24, "offset": [-0.15, 0, 0]}]},
+        {"box": {"min": [0.96, -1, -1], "max": [2, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 24, "offset": [0.15, 0, 0]}]}],
+      "tearing": {"stretch": 1.3, "seam_strength": 0.6}}})";
+    const Torn t = run(input, script, pull_frames);
+    CHECK(t.pieces == 2);
+    REQUIRE_FALSE(t.boundary.empty());
+    double worst = 0;
+    for (const auto& p : t.boundary) worst = std::max(worst, std::abs(p[0] - 0.25));
+    CHECK(worst <= 1e-4);
+  }
+}
+
+TEST_CASE("crack growth: a cloth that moves freely does not tear", "[tearing]") {
+  // Falling under gravity, nothing held: no stress, no crack, whatever the limit.
+  const std::string script = R"({"version": 1, "frames": 12, "simulation": {"gravity": [0, -9.81, 0],
+    "tearing": {"stretch": 1.01}}})";
+  const Torn t = run(sheet(800, true), script, 12);
+  CHECK(t.events == 0);
+  CHECK(t.pieces == 1);
+}
