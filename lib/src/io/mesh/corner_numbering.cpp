@@ -1,4 +1,4 @@
-#include "io/corner_numbering.h"
+#include "io/mesh/corner_numbering.h"
 
 #include <algorithm>
 #include <cmath>

@@ -13,8 +13,8 @@
 #include <utility>
 #include <vector>
 
-#include "io/corner_numbering.h"
-#include "io/parallel_pieces.h"
+#include "io/mesh/corner_numbering.h"
+#include "io/mesh/parallel_pieces.h"
 #include "tear/error.h"
 
 namespace tear {

@@ -20,8 +20,8 @@
 #include <system_error>
 #include <vector>
 
-#include "io/file_mesh.h"
-#include "io/parallel_pieces.h"
+#include "io/mesh/file_mesh.h"
+#include "io/mesh/parallel_pieces.h"
 #include "tear/error.h"
 #include "tear/triangulate_polygon.h"
 

@@ -18,7 +18,7 @@
 #include <utility>
 #include <vector>
 
-#include "io/file_mesh.h"
+#include "io/mesh/file_mesh.h"
 #include "tear/error.h"
 
 namespace tear {

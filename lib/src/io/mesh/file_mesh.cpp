@@ -1,4 +1,4 @@
-#include "io/file_mesh.h"
+#include "io/mesh/file_mesh.h"
 
 #include <algorithm>
 #include <cmath>
