@@ -9,15 +9,16 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
-#include <type_traits>
 #include <filesystem>
 #include <limits>
 #include <map>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
+#include "io/gltf/gltf_accessors.h"
 #include "io/mesh/file_mesh.h"
 #include "tear/error.h"
 
@@ -96,190 +97,7 @@ std::string one_line(std::string text) {
   return text;
 }
 
-/// Reads accessors with every range checked against the buffers first.
-class AccessorReader {
- public:
-  AccessorReader(const std::string& path, const tinygltf::Model& model, std::size_t file_size)
-      : path_(path), model_(model), file_size_(file_size) {}
-
-  /// `count * components` values of accessor `index` as `T`, normalized integers mapped to [0, 1]
-  /// or [-1, 1] as glTF defines them (computed in double, then converted: a float component read as
-  /// float is the float in the file). `what` names it in messages.
-  template <class T>
-  std::vector<T> read(int index, int components, const std::string& what) const {
-    if (index < 0 || static_cast<std::size_t>(index) >= model_.accessors.size()) {
-      throw fail(what + " uses accessor " + std::to_string(index) + ", which does not exist");
-    }
-    const tinygltf::Accessor& accessor = model_.accessors[index];
-    const std::string name = what + " (accessor " + std::to_string(index) + ")";
-    const int type_components = tinygltf::GetNumComponentsInType(static_cast<std::uint32_t>(accessor.type));
-    if (type_components != components) {
-      throw fail(name + " has " + std::to_string(type_components) + " components, expected " +
-                 std::to_string(components));
-    }
-    const int component_size = tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(accessor.componentType));
-    if (component_size <= 0 || accessor.componentType == TINYGLTF_COMPONENT_TYPE_INT ||
-        accessor.componentType == TINYGLTF_COMPONENT_TYPE_DOUBLE) {
-      throw fail(name + " has the unknown component type " + std::to_string(accessor.componentType));
-    }
-    const std::uint64_t count = accessor.count;
-    if (count > max_index_count) throw fail(name + " has too many elements (" + std::to_string(count) + ")");
-    const std::uint64_t element_size = static_cast<std::uint64_t>(component_size) * components;
-
-    std::vector<T> values;
-    if (accessor.bufferView < 0) {
-      // No data: zeros (to be replaced by sparse values). Bounded by the file's size so that a
-      // tiny file cannot ask for gigabytes.
-      if (count > file_size_) throw fail(name + " has " + std::to_string(count) + " elements and no data");
-      values.assign(count * components, T(0));
-    } else {
-      std::uint64_t stride = 0;
-      const unsigned char* data =
-          view_data(accessor.bufferView, accessor.byteOffset, count, element_size, &stride, name);
-      values.resize(count * components);
-      if (std::is_same<T, float>::value && accessor.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT) {
-        // Floats as they are in the file: whole when tightly packed, else element by element.
-        if (stride == element_size) {
-          if (count > 0) std::memcpy(values.data(), data, count * element_size);
-        } else {
-          for (std::uint64_t i = 0; i < count; ++i) std::memcpy(&values[i * components], data + i * stride, element_size);
-        }
-      } else {
-        for (std::uint64_t i = 0; i < count; ++i) {
-          for (int k = 0; k < components; ++k) {
-            values[i * components + k] = static_cast<T>(component(data + i * stride + k * component_size, accessor));
-          }
-        }
-      }
-    }
-
-    if (accessor.sparse.isSparse) {
-      const auto& sparse = accessor.sparse;
-      if (sparse.count < 0 || static_cast<std::uint64_t>(sparse.count) > count) {
-        throw fail(name + " has " + std::to_string(sparse.count) + " sparse values for " + std::to_string(count) +
-                   " elements");
-      }
-      const std::uint64_t sparse_count = static_cast<std::uint64_t>(sparse.count);
-      const int index_size =
-          tinygltf::GetComponentSizeInBytes(static_cast<std::uint32_t>(sparse.indices.componentType));
-      if (sparse.indices.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
-          sparse.indices.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-          sparse.indices.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {
-        throw fail(name + " has sparse indices of component type " + std::to_string(sparse.indices.componentType));
-      }
-      if (sparse.indices.byteOffset < 0 || sparse.values.byteOffset < 0)
-        throw fail(name + " has a negative sparse offset");
-      std::uint64_t index_stride = 0, value_stride = 0;
-      const unsigned char* indices =
-          view_data(sparse.indices.bufferView, static_cast<std::size_t>(sparse.indices.byteOffset), sparse_count,
-                    index_size, &index_stride, name + " sparse indices");
-      const unsigned char* data =
-          view_data(sparse.values.bufferView, static_cast<std::size_t>(sparse.values.byteOffset), sparse_count,
-                    element_size, &value_stride, name + " sparse values");
-      // Sparse data is tightly packed whatever the views' strides say.
-      index_stride = index_size;
-      value_stride = element_size;
-      for (std::uint64_t s = 0; s < sparse_count; ++s) {
-        std::uint32_t target = 0;
-        if (index_size == 1) target = indices[s];
-        if (index_size == 2) {
-          std::uint16_t v;
-          std::memcpy(&v, indices + 2 * s, 2);
-          target = v;
-        }
-        if (index_size == 4) std::memcpy(&target, indices + 4 * s, 4);
-        if (target >= count) {
-          throw fail(name + " has the sparse index " + std::to_string(target) + " of " + std::to_string(count) +
-                     " elements");
-        }
-        for (int k = 0; k < components; ++k) {
-          values[static_cast<std::size_t>(target) * components + k] =
-              static_cast<T>(component(data + s * value_stride + k * component_size, accessor));
-        }
-      }
-      (void)index_stride;
-    }
-    return values;
-  }
-
-  Error fail(const std::string& what) const { return input_error(path_, what); }
-
- private:
-  /// The bytes of `count` elements of `element_size` at `offset` in buffer view `view_index`, all
-  /// of them inside the view and the view inside its buffer.
-  const unsigned char* view_data(int view_index, std::size_t offset, std::uint64_t count, std::uint64_t element_size,
-                                 std::uint64_t* stride, const std::string& name) const {
-    if (view_index < 0 || static_cast<std::size_t>(view_index) >= model_.bufferViews.size()) {
-      throw fail(name + " uses buffer view " + std::to_string(view_index) + ", which does not exist");
-    }
-    const tinygltf::BufferView& view = model_.bufferViews[view_index];
-    if (view.buffer < 0 || static_cast<std::size_t>(view.buffer) >= model_.buffers.size()) {
-      throw fail("buffer view " + std::to_string(view_index) + " uses buffer " + std::to_string(view.buffer) +
-                 ", which does not exist");
-    }
-    const std::vector<unsigned char>& buffer = model_.buffers[view.buffer].data;
-    const std::uint64_t view_offset = view.byteOffset, view_length = view.byteLength;
-    if (view_offset > buffer.size() || view_length > buffer.size() - view_offset) {
-      throw fail("buffer view " + std::to_string(view_index) + " (bytes " + std::to_string(view_offset) + " + " +
-                 std::to_string(view_length) + ") reaches past the end of its buffer of " +
-                 std::to_string(buffer.size()) + " bytes");
-    }
-    *stride = view.byteStride ? view.byteStride : element_size;
-    if (*stride < element_size) {
-      throw fail(name + ": buffer view " + std::to_string(view_index) + " has a stride of " + std::to_string(*stride) +
-                 " bytes, less than an element's " + std::to_string(element_size));
-    }
-    if (count > 0) {
-      // offset + stride * (count - 1) + element_size <= view_length, without overflow.
-      const std::uint64_t last = count - 1;
-      const bool fits = offset <= view_length && element_size <= view_length - offset &&
-                        (last == 0 || *stride <= (view_length - offset - element_size) / last);
-      if (!fits) {
-        throw fail(name + ": " + std::to_string(count) + " elements at offset " + std::to_string(offset) +
-                   " reach past the end of buffer view " + std::to_string(view_index) + " (" +
-                   std::to_string(view_length) + " bytes)");
-      }
-    }
-    return buffer.data() + view_offset + offset;
-  }
-
-  static double component(const unsigned char* at, const tinygltf::Accessor& accessor) {
-    const bool normalized = accessor.normalized;
-    switch (accessor.componentType) {
-      case TINYGLTF_COMPONENT_TYPE_BYTE: {
-        const double v = static_cast<std::int8_t>(*at);
-        return normalized ? std::max(v / 127.0, -1.0) : v;
-      }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
-        return normalized ? *at / 255.0 : *at;
-      case TINYGLTF_COMPONENT_TYPE_SHORT: {
-        std::int16_t v;
-        std::memcpy(&v, at, 2);
-        return normalized ? std::max(v / 32767.0, -1.0) : v;
-      }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
-        std::uint16_t v;
-        std::memcpy(&v, at, 2);
-        return normalized ? v / 65535.0 : v;
-      }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
-        std::uint32_t v;
-        std::memcpy(&v, at, 4);
-        return normalized ? v / 4294967295.0 : v;
-      }
-      case TINYGLTF_COMPONENT_TYPE_FLOAT: {
-        float v;
-        std::memcpy(&v, at, 4);
-        return v;
-      }
-    }
-    return 0.0;
-  }
-
-  const std::string& path_;
-  const tinygltf::Model& model_;
-  std::size_t file_size_;
-};
+using gltf::AccessorReader;
 
 /// A node's own transform: its matrix (column-major) or translation * rotation * scale.
 Transform local_transform(const tinygltf::Node& node) {
@@ -360,10 +178,9 @@ bool has_triangles(const tinygltf::Mesh& mesh) {
   return false;
 }
 
-}  // namespace
-
-std::optional<FileMesh> read_gltf_file(const std::string& path, const std::string& bytes,
-                                       const std::string& mesh_name) {
+/// The glTF document of `bytes`, through tinygltf; nothing for a document that assimp is left to
+/// read (glTF 1.0, Draco-compressed meshes).
+std::optional<tinygltf::Model> load_model(const std::string& path, const std::string& bytes) {
   const bool binary = bytes.compare(0, 4, "glTF") == 0;
   // glTF 1.0 (another schema, which tinygltf does not read) is left to assimp.
   if (binary && bytes.size() >= 8 && read_u32(bytes, 4) == 1) return std::nullopt;
@@ -397,8 +214,13 @@ std::optional<FileMesh> read_gltf_file(const std::string& path, const std::strin
       throw input_error(path, std::string("uses ") + extension + ", which tear does not read");
     }
   }
+  return model;
+}
 
-  // The scene's nodes, each placing its mesh with the product of the transforms above it.
+/// The scene's nodes, each placing its mesh with the product of the transforms above it: those
+/// with triangles, and of them those `mesh_name` names (a mesh's or its node's name) when it is given.
+std::vector<Placement> scene_placements(const std::string& path, const tinygltf::Model& model,
+                                        const std::string& mesh_name) {
   std::vector<Placement> placements;
   std::vector<std::uint8_t> visited(model.nodes.size(), 0);
   const int scene = model.defaultScene >= 0 ? model.defaultScene : (model.scenes.empty() ? -1 : 0);
@@ -430,120 +252,178 @@ std::optional<FileMesh> read_gltf_file(const std::string& path, const std::strin
                      placements.end());
     if (placements.empty()) throw no_mesh_named(path, mesh_name, names);
   }
+  return placements;
+}
 
-  // Ids weld nodes only when every primitive has them and no mesh that has them is placed twice
-  // (its two copies would carry the same ids).
-  bool with_uv = false, with_normals = false, with_velocities = false, with_ids = !placements.empty();
+/// Which arrays the mesh has: those any placed primitive has. Ids weld nodes only when every
+/// primitive has them and no mesh that has them is placed twice (its two copies would carry the
+/// same ids).
+struct Channels {
+  bool uv = false, normals = false, velocities = false, ids = false;
+};
+
+Channels channels_of(const tinygltf::Model& model, const std::vector<Placement>& placements) {
+  Channels with;
+  with.ids = !placements.empty();
   std::map<int, int> placement_count;
   for (const Placement& p : placements) ++placement_count[p.mesh];
   for (const Placement& p : placements) {
     for (const tinygltf::Primitive& primitive : model.meshes[p.mesh].primitives) {
       if (!is_triangles(primitive) || !primitive.attributes.count("POSITION")) continue;
-      with_uv = with_uv || primitive.attributes.count("TEXCOORD_0");
-      with_normals = with_normals || primitive.attributes.count("NORMAL");
-      with_velocities = with_velocities || primitive.attributes.count("_VELOCITY");
-      with_ids = with_ids && primitive.attributes.count("_ID") && placement_count[p.mesh] == 1;
+      with.uv = with.uv || primitive.attributes.count("TEXCOORD_0");
+      with.normals = with.normals || primitive.attributes.count("NORMAL");
+      with.velocities = with.velocities || primitive.attributes.count("_VELOCITY");
+      with.ids = with.ids && primitive.attributes.count("_ID") && placement_count[p.mesh] == 1;
     }
   }
+  return with;
+}
 
-  const AccessorReader reader(path, model, bytes.size());
+/// A primitive's vertex arrays, each checked to have one value per vertex (or none).
+struct PrimitiveVertices {
+  std::vector<float> position, normal, uv, velocity;
+  std::vector<index_t> id;
+};
+
+/// The values of a primitive's attribute, or none when it has not that attribute.
+template <typename T>
+std::vector<T> attribute_values(const AccessorReader& reader, const tinygltf::Primitive& primitive,
+                                const char* semantic, int components, const std::string& name) {
+  const auto found = primitive.attributes.find(semantic);
+  if (found == primitive.attributes.end()) return std::vector<T>();
+  return reader.read<T>(found->second, components, name + " " + semantic);
+}
+
+PrimitiveVertices primitive_vertices(const std::string& path, const AccessorReader& reader,
+                                     const tinygltf::Primitive& primitive, const std::string& name, bool with_ids,
+                                     std::size_t nodes_before) {
+  PrimitiveVertices vertices;
+  vertices.position = attribute_values<float>(reader, primitive, "POSITION", 3, name);
+  const std::size_t vertex_count = vertices.position.size() / 3;
+  if (nodes_before + vertex_count > max_index_count) {
+    throw input_error(path, "too large: more than 2^31 vertices");
+  }
+  auto per_vertex = [&](auto values, const char* semantic, std::size_t width) {
+    if (!values.empty() && values.size() != width * vertex_count) {
+      throw input_error(path, name + " has " + std::to_string(values.size() / width) + " " + semantic + " values for " +
+                                  std::to_string(vertex_count) + " vertices");
+    }
+    return values;
+  };
+  vertices.normal = per_vertex(attribute_values<float>(reader, primitive, "NORMAL", 3, name), "NORMAL", 3);
+  vertices.uv = per_vertex(attribute_values<float>(reader, primitive, "TEXCOORD_0", 2, name), "TEXCOORD_0", 2);
+  // glTF puts the UV origin at the top left; tear's (OBJ's) is at the bottom left.
+  for (std::size_t i = 1; i < vertices.uv.size(); i += 2) vertices.uv[i] = 1.0f - vertices.uv[i];
+  vertices.velocity = per_vertex(attribute_values<float>(reader, primitive, "_VELOCITY", 3, name), "_VELOCITY", 3);
+  if (with_ids) {
+    for (double value : per_vertex(attribute_values<double>(reader, primitive, "_ID", 1, name), "_ID", 1)) {
+      if (!(value >= 0.0 && value <= static_cast<double>(max_index_count) && value == std::floor(value))) {
+        throw input_error(path, name + " has an _ID that is not a node index: " + std::to_string(value));
+      }
+      vertices.id.push_back(static_cast<index_t>(value));
+    }
+  }
+  return vertices;
+}
+
+/// A primitive's indices (glTF's are unsigned bytes, shorts or ints), each checked to name one of
+/// its `vertex_count` vertices; without an index accessor, its vertices in order.
+std::vector<std::uint32_t> primitive_indices(const std::string& path, const tinygltf::Model& model,
+                                             const AccessorReader& reader, const tinygltf::Primitive& primitive,
+                                             const std::string& name, std::size_t vertex_count) {
+  std::vector<std::uint32_t> indices;
+  if (primitive.indices < 0) {
+    indices.resize(vertex_count);
+    for (std::size_t i = 0; i < vertex_count; ++i) indices[i] = static_cast<std::uint32_t>(i);
+    return indices;
+  }
+  if (primitive.indices >= static_cast<int>(model.accessors.size())) {
+    throw input_error(path, name + " uses accessor " + std::to_string(primitive.indices) + ", which does not exist");
+  }
+  if (model.accessors[primitive.indices].normalized) throw input_error(path, name + " has normalized indices");
+  const int type = model.accessors[primitive.indices].componentType;
+  if (type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+      type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {
+    throw input_error(path, name + " has indices of component type " + std::to_string(type));
+  }
+  indices = reader.read<std::uint32_t>(primitive.indices, 1, name + " indices");
+  for (std::size_t i = 0; i < indices.size(); ++i) {
+    if (indices[i] >= vertex_count) {
+      throw input_error(path, name + ": index " + std::to_string(indices[i]) + " (number " + std::to_string(i) +
+                                  ") is out of range (the primitive has " + std::to_string(vertex_count) +
+                                  " vertices)");
+    }
+  }
+  return indices;
+}
+
+/// The primitive's triangles as vertex numbers, from its triangle list, strip or fan.
+std::vector<index_t> primitive_triangles(const tinygltf::Primitive& primitive,
+                                         const std::vector<std::uint32_t>& indices) {
+  std::vector<index_t> triangles;
+  const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
+  triangles.reserve(mode == TINYGLTF_MODE_TRIANGLES ? indices.size() / 3 * 3 : 3 * indices.size());
+  auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    triangles.insert(triangles.end(), {static_cast<index_t>(a), static_cast<index_t>(b), static_cast<index_t>(c)});
+  };
+  if (mode == TINYGLTF_MODE_TRIANGLES) {
+    for (std::size_t i = 0; i + 2 < indices.size(); i += 3) add(indices[i], indices[i + 1], indices[i + 2]);
+  } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+    // Triangle i is (p_i, p_i+1+i%2, p_i+2-i%2): every other one turned to keep its orientation.
+    for (std::size_t i = 0; i + 2 < indices.size(); ++i) {
+      add(indices[i], indices[i + 1 + i % 2], indices[i + 2 - i % 2]);
+    }
+  } else {
+    for (std::size_t i = 0; i + 2 < indices.size(); ++i) add(indices[i + 1], indices[i + 2], indices[0]);
+  }
+  return triangles;
+}
+
+/// Primitive `k` of the placement's mesh appended to `out`, placed.
+void append_primitive(const std::string& path, const tinygltf::Model& model, const AccessorReader& reader,
+                      const Placement& p, std::size_t k, const Channels& with, FileMesh& out) {
+  const tinygltf::Mesh& mesh = model.meshes[p.mesh];
+  const tinygltf::Primitive& primitive = mesh.primitives[k];
+  const std::string name = "mesh " + std::to_string(p.mesh) +
+                           (mesh.name.empty() ? std::string() : " ('" + mesh.name + "')") + " primitive " +
+                           std::to_string(k);
+  const PrimitiveVertices vertices =
+      primitive_vertices(path, reader, primitive, name, with.ids, out.mesh.node_pos.size() / 3);
+  const std::size_t vertex_count = vertices.position.size() / 3;
+  const std::vector<std::uint32_t> indices = primitive_indices(path, model, reader, primitive, name, vertex_count);
+  const std::vector<index_t> triangles = primitive_triangles(primitive, indices);
+  if (out.mesh.face_nodes.size() + triangles.size() > max_index_count) {
+    throw input_error(path, "too large: more than 2^31 face corners");
+  }
+
+  PlacedTriangles placed;
+  placed.vertex_count = static_cast<index_t>(vertex_count);
+  placed.vertex_pos = vertices.position.data();
+  placed.vertex_normal = vertices.normal.empty() ? nullptr : vertices.normal.data();
+  placed.vertex_uv = vertices.uv.empty() ? nullptr : vertices.uv.data();
+  placed.vertex_vel = vertices.velocity.empty() ? nullptr : vertices.velocity.data();
+  placed.vertex_id = vertices.id.empty() ? nullptr : vertices.id.data();
+  placed.triangles = &triangles;
+  placed.transform = p.transform;
+  append_placed(placed, with.uv, with.normals, with.velocities, with.ids, out);
+}
+
+}  // namespace
+
+std::optional<FileMesh> read_gltf_file(const std::string& path, const std::string& bytes,
+                                       const std::string& mesh_name) {
+  const std::optional<tinygltf::Model> model = load_model(path, bytes);
+  if (!model) return std::nullopt;
+  const std::vector<Placement> placements = scene_placements(path, *model, mesh_name);
+  const Channels with = channels_of(*model, placements);
+  const AccessorReader reader(path, *model, bytes.size());
   FileMesh out;
   for (const Placement& p : placements) {
-    const tinygltf::Mesh& mesh = model.meshes[p.mesh];
+    const tinygltf::Mesh& mesh = model->meshes[p.mesh];
     for (std::size_t k = 0; k < mesh.primitives.size(); ++k) {
       const tinygltf::Primitive& primitive = mesh.primitives[k];
       if (!is_triangles(primitive) || !primitive.attributes.count("POSITION")) continue;
-      const std::string name = "mesh " + std::to_string(p.mesh) +
-                               (mesh.name.empty() ? std::string() : " ('" + mesh.name + "')") + " primitive " +
-                               std::to_string(k);
-      auto attribute = [&](const char* semantic, int components, auto zero) {
-        using T = decltype(zero);
-        const auto found = primitive.attributes.find(semantic);
-        if (found == primitive.attributes.end()) return std::vector<T>();
-        return reader.read<T>(found->second, components, name + " " + semantic);
-      };
-      const std::vector<float> position = attribute("POSITION", 3, 0.0f);
-      const std::size_t vertex_count = position.size() / 3;
-      if (out.mesh.node_pos.size() / 3 + vertex_count > max_index_count) {
-        throw input_error(path, "too large: more than 2^31 vertices");
-      }
-      auto per_vertex = [&](auto values, const char* semantic, std::size_t width) {
-        if (!values.empty() && values.size() != width * vertex_count) {
-          throw input_error(path, name + " has " + std::to_string(values.size() / width) + " " + semantic +
-                                      " values for " + std::to_string(vertex_count) + " vertices");
-        }
-        return values;
-      };
-      const std::vector<float> normal = per_vertex(attribute("NORMAL", 3, 0.0f), "NORMAL", 3);
-      std::vector<float> uv = per_vertex(attribute("TEXCOORD_0", 2, 0.0f), "TEXCOORD_0", 2);
-      // glTF puts the UV origin at the top left; tear's (OBJ's) is at the bottom left.
-      for (std::size_t i = 1; i < uv.size(); i += 2) uv[i] = 1.0f - uv[i];
-      const std::vector<float> velocity = per_vertex(attribute("_VELOCITY", 3, 0.0f), "_VELOCITY", 3);
-      std::vector<index_t> id;
-      if (with_ids) {
-        for (double value : per_vertex(attribute("_ID", 1, 0.0), "_ID", 1)) {
-          if (!(value >= 0.0 && value <= static_cast<double>(max_index_count) && value == std::floor(value))) {
-            throw input_error(path, name + " has an _ID that is not a node index: " + std::to_string(value));
-          }
-          id.push_back(static_cast<index_t>(value));
-        }
-      }
-
-      std::vector<std::uint32_t> indices;  // glTF's indices are unsigned bytes, shorts or ints
-      if (primitive.indices >= 0) {
-        if (primitive.indices >= static_cast<int>(model.accessors.size())) {
-          throw input_error(path,
-                            name + " uses accessor " + std::to_string(primitive.indices) + ", which does not exist");
-        }
-        if (model.accessors[primitive.indices].normalized) throw input_error(path, name + " has normalized indices");
-        const int type = model.accessors[primitive.indices].componentType;
-        if (type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE && type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
-            type != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT) {
-          throw input_error(path, name + " has indices of component type " + std::to_string(type));
-        }
-        indices = reader.read<std::uint32_t>(primitive.indices, 1, name + " indices");
-        for (std::size_t i = 0; i < indices.size(); ++i) {
-          if (indices[i] >= vertex_count) {
-            throw input_error(path, name + ": index " + std::to_string(indices[i]) +
-                                        " (number " + std::to_string(i) + ") is out of range (the primitive has " +
-                                        std::to_string(vertex_count) + " vertices)");
-          }
-        }
-      } else {
-        indices.resize(vertex_count);
-        for (std::size_t i = 0; i < vertex_count; ++i) indices[i] = static_cast<std::uint32_t>(i);
-      }
-
-      std::vector<index_t> triangles;
-      const int mode = primitive.mode < 0 ? TINYGLTF_MODE_TRIANGLES : primitive.mode;
-      triangles.reserve(mode == TINYGLTF_MODE_TRIANGLES ? indices.size() / 3 * 3 : 3 * indices.size());
-      auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-        triangles.insert(triangles.end(), {static_cast<index_t>(a), static_cast<index_t>(b), static_cast<index_t>(c)});
-      };
-      if (mode == TINYGLTF_MODE_TRIANGLES) {
-        for (std::size_t i = 0; i + 2 < indices.size(); i += 3) add(indices[i], indices[i + 1], indices[i + 2]);
-      } else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
-        // Triangle i is (p_i, p_i+1+i%2, p_i+2-i%2): every other one turned to keep its orientation.
-        for (std::size_t i = 0; i + 2 < indices.size(); ++i) {
-          add(indices[i], indices[i + 1 + i % 2], indices[i + 2 - i % 2]);
-        }
-      } else {
-        for (std::size_t i = 0; i + 2 < indices.size(); ++i) add(indices[i + 1], indices[i + 2], indices[0]);
-      }
-      if (out.mesh.face_nodes.size() + triangles.size() > max_index_count) {
-        throw input_error(path, "too large: more than 2^31 face corners");
-      }
-
-      PlacedTriangles placed;
-      placed.vertex_count = static_cast<index_t>(vertex_count);
-      placed.vertex_pos = position.data();
-      placed.vertex_normal = normal.empty() ? nullptr : normal.data();
-      placed.vertex_uv = uv.empty() ? nullptr : uv.data();
-      placed.vertex_vel = velocity.empty() ? nullptr : velocity.data();
-      placed.vertex_id = id.empty() ? nullptr : id.data();
-      placed.triangles = &triangles;
-      placed.transform = p.transform;
-      append_placed(placed, with_uv, with_normals, with_velocities, with_ids, out);
+      append_primitive(path, *model, reader, p, k, with, out);
     }
   }
   return out;
