@@ -160,9 +160,8 @@ void append_line(std::string& out, const char* keyword, const float* values, int
 void put_obj_text(const Mesh& mesh, const PieceTeam& team, std::string& out) {
   TextPieces text(team, out);
   text.first() = "# tear\n";
-  text.add(static_cast<std::size_t>(mesh.node_count()), 32, [&](std::string& line, std::size_t node) {
-    append_line(line, "v", &mesh.node_pos[3 * node], 3);
-  });
+  text.add(static_cast<std::size_t>(mesh.node_count()), 32,
+           [&](std::string& line, std::size_t node) { append_line(line, "v", &mesh.node_pos[3 * node], 3); });
   ValueNumbers uv, normal;
   if (mesh.has_uv()) {
     uv = number_by_value(mesh.corner_uv, 2, team);
@@ -276,7 +275,8 @@ void put_ply_bytes(const Mesh& mesh, const PieceTeam& team, std::string& out) {
     char* at = faces + begin * face_size;
     for (std::size_t face = begin; face < end; ++face) {
       *at++ = 3;
-      for (std::size_t c = 3 * face; c < 3 * face + 3; ++c) put_u32(at, static_cast<std::uint32_t>(split.corner_vertex[c]));
+      for (std::size_t c = 3 * face; c < 3 * face + 3; ++c)
+        put_u32(at, static_cast<std::uint32_t>(split.corner_vertex[c]));
     }
   });
   // Vertex i is node i, so the torn edges' node pairs are vertex pairs.
@@ -326,8 +326,11 @@ struct GltfLayout {
 
   GltfLayout() = default;
   GltfLayout(const Mesh& mesh, const SplitNodes& split)
-      : vertex_count(split.vertex_node.size()), corner_count(split.corner_vertex.size()), normals(mesh.has_normals()),
-        uv(mesh.has_uv()), ids(mesh.node_count() <= max_float_id) {
+      : vertex_count(split.vertex_node.size()),
+        corner_count(split.corner_vertex.size()),
+        normals(mesh.has_normals()),
+        uv(mesh.has_uv()),
+        ids(mesh.node_count() <= max_float_id) {
     normals_at = positions + 12 * vertex_count;
     uv_at = normals_at + (normals ? 12 * vertex_count : 0);
     ids_at = uv_at + (uv ? 8 * vertex_count : 0);
@@ -368,6 +371,46 @@ struct Bounds {
   }
 };
 
+/// POSITION's bounds over the mesh's nodes, found in pieces: the accessor's min and max.
+std::pair<nlohmann::json, nlohmann::json> position_bounds(const Mesh& mesh, const PieceTeam& team) {
+  using nlohmann::json;
+  const std::size_t node_count = static_cast<std::size_t>(mesh.node_count());
+  const std::size_t piece_count = team.pieces(node_count);
+  std::vector<Bounds> piece_bounds(piece_count);
+  team.for_each_range(node_count, piece_count, [&](std::size_t k, std::size_t begin, std::size_t end) {
+    for (std::size_t node = begin; node < end; ++node) {
+      for (int j = 0; j < 3; ++j) piece_bounds[k].add(j, mesh.node_pos[3 * node + j]);
+    }
+  });
+  Bounds bounds;
+  for (const Bounds& piece : piece_bounds) bounds.add(piece);
+  json min = json::array(), max = json::array();
+  for (int k = 0; k < 3; ++k) {
+    min.push_back(bounds.seen[k] ? json_number(bounds.low[k]) : 0.0);
+    max.push_back(bounds.seen[k] ? json_number(bounds.high[k]) : 0.0);
+  }
+  return {min, max};
+}
+
+/// A frame document's buffer views and accessors, added one array of the buffer at a time.
+struct GltfAccessors {
+  static constexpr int array_buffer = 34962, element_array_buffer = 34963;
+  static constexpr int float_type = 5126, unsigned_int_type = 5125;
+
+  nlohmann::json buffer_views = nlohmann::json::array();
+  nlohmann::json accessors = nlohmann::json::array();
+
+  /// A view of bytes [begin, end) of the buffer for `target`, and an accessor of `count` values of
+  /// `type` over it; returns the accessor's number.
+  std::size_t add(std::size_t begin, std::size_t end, int target, int component_type, std::size_t count,
+                  const char* type) {
+    buffer_views.push_back({{"buffer", 0}, {"byteOffset", begin}, {"byteLength", end - begin}, {"target", target}});
+    accessors.push_back(
+        {{"bufferView", buffer_views.size() - 1}, {"componentType", component_type}, {"count", count}, {"type", type}});
+    return accessors.size() - 1;
+  }
+};
+
 GltfFrame gltf_frame(const Mesh& mesh, const PieceTeam& team) {
   using nlohmann::json;
   GltfFrame frame;
@@ -385,85 +428,35 @@ GltfFrame gltf_frame(const Mesh& mesh, const PieceTeam& team) {
   frame.layout = GltfLayout(mesh, frame.split);
   const GltfLayout& layout = frame.layout;
   const std::size_t vertex_count = layout.vertex_count;
-  json buffer_views = json::array();
-  json accessors = json::array();
+  constexpr int array_buffer = GltfAccessors::array_buffer, float_type = GltfAccessors::float_type;
+  GltfAccessors arrays;
   json attributes = json::object();
-  constexpr int array_buffer = 34962, element_array_buffer = 34963;
-  constexpr int float_type = 5126, unsigned_int_type = 5125;
-  auto add_view = [&](std::size_t begin, std::size_t end, int target) {
-    buffer_views.push_back({{"buffer", 0}, {"byteOffset", begin}, {"byteLength", end - begin}, {"target", target}});
-  };
-
-  const std::size_t node_count = static_cast<std::size_t>(mesh.node_count());
-  const std::size_t piece_count = team.pieces(node_count);
-  std::vector<Bounds> piece_bounds(piece_count);
-  team.for_each_range(node_count, piece_count, [&](std::size_t k, std::size_t begin, std::size_t end) {
-    for (std::size_t node = begin; node < end; ++node) {
-      for (int j = 0; j < 3; ++j) piece_bounds[k].add(j, mesh.node_pos[3 * node + j]);
-    }
-  });
-  Bounds bounds;
-  for (const Bounds& piece : piece_bounds) bounds.add(piece);
-  json min = json::array(), max = json::array();
-  for (int k = 0; k < 3; ++k) {
-    min.push_back(bounds.seen[k] ? json_number(bounds.low[k]) : 0.0);
-    max.push_back(bounds.seen[k] ? json_number(bounds.high[k]) : 0.0);
-  }
-  add_view(layout.positions, layout.normals_at, array_buffer);
-  accessors.push_back({{"bufferView", buffer_views.size() - 1},
-                       {"componentType", float_type},
-                       {"count", vertex_count},
-                       {"type", "VEC3"},
-                       {"min", min},
-                       {"max", max}});
-  attributes["POSITION"] = accessors.size() - 1;
-  if (layout.normals) {
-    add_view(layout.normals_at, layout.uv_at, array_buffer);
-    accessors.push_back({{"bufferView", buffer_views.size() - 1},
-                         {"componentType", float_type},
-                         {"count", vertex_count},
-                         {"type", "VEC3"}});
-    attributes["NORMAL"] = accessors.size() - 1;
-  }
-  if (layout.uv) {
-    add_view(layout.uv_at, layout.ids_at, array_buffer);
-    accessors.push_back({{"bufferView", buffer_views.size() - 1},
-                         {"componentType", float_type},
-                         {"count", vertex_count},
-                         {"type", "VEC2"}});
-    attributes["TEXCOORD_0"] = accessors.size() - 1;
-  }
+  attributes["POSITION"] =
+      arrays.add(layout.positions, layout.normals_at, array_buffer, float_type, vertex_count, "VEC3");
+  const auto [min, max] = position_bounds(mesh, team);
+  arrays.accessors.back()["min"] = min;
+  arrays.accessors.back()["max"] = max;
+  if (layout.normals)
+    attributes["NORMAL"] = arrays.add(layout.normals_at, layout.uv_at, array_buffer, float_type, vertex_count, "VEC3");
+  if (layout.uv)
+    attributes["TEXCOORD_0"] = arrays.add(layout.uv_at, layout.ids_at, array_buffer, float_type, vertex_count, "VEC2");
   // Identity (docs/io.md), as application-specific attributes: `_ID`, the node each vertex is,
   // and `_VELOCITY` (m/s). glTF allows no UNSIGNED_INT outside indices, and Blender imports a
   // SCALAR FLOAT (not a SHORT) as a point attribute, so ids are floats: exact up to 2^24 nodes,
   // and left out above that rather than rounded.
-  if (layout.ids) {
-    add_view(layout.ids_at, layout.velocities, array_buffer);
-    accessors.push_back({{"bufferView", buffer_views.size() - 1},
-                         {"componentType", float_type},
-                         {"count", vertex_count},
-                         {"type", "SCALAR"}});
-    attributes["_ID"] = accessors.size() - 1;
-  }
-  add_view(layout.velocities, layout.indices, array_buffer);
-  accessors.push_back({{"bufferView", buffer_views.size() - 1},
-                       {"componentType", float_type},
-                       {"count", vertex_count},
-                       {"type", "VEC3"}});
-  attributes["_VELOCITY"] = accessors.size() - 1;
-  add_view(layout.indices, layout.size, element_array_buffer);
-  accessors.push_back({{"bufferView", buffer_views.size() - 1},
-                       {"componentType", unsigned_int_type},
-                       {"count", layout.corner_count},
-                       {"type", "SCALAR"}});
+  if (layout.ids)
+    attributes["_ID"] = arrays.add(layout.ids_at, layout.velocities, array_buffer, float_type, vertex_count, "SCALAR");
+  attributes["_VELOCITY"] =
+      arrays.add(layout.velocities, layout.indices, array_buffer, float_type, vertex_count, "VEC3");
+  const std::size_t indices = arrays.add(layout.indices, layout.size, GltfAccessors::element_array_buffer,
+                                         GltfAccessors::unsigned_int_type, layout.corner_count, "SCALAR");
 
   constexpr int triangles = 4;
   document["meshes"] = json::array(
       {{{"name", "cloth"},
-        {"primitives",
-         json::array({{{"attributes", attributes}, {"indices", accessors.size() - 1}, {"mode", triangles}}})}}});
-  document["accessors"] = accessors;
-  document["bufferViews"] = buffer_views;
+        {"primitives", json::array({{{"attributes", attributes}, {"indices", indices}, {"mode", triangles}}})}}});
+  document["accessors"] = arrays.accessors;
+  document["bufferViews"] = arrays.buffer_views;
   document["buffers"] = json::array({{{"byteLength", layout.size}}});
   return frame;
 }
