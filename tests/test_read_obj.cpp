@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "catch.h"
-#include "io/file_mesh.h"
+#include "io/mesh/file_mesh.h"
 #include "random_meshes.h"
 #include "tear/error.h"
 #include "test_support.h"

@@ -11,7 +11,7 @@
 
 #include "tinyobj_reference.h"
 
-#include "io/file_mesh.h"
+#include "io/mesh/file_mesh.h"
 #include "tear/error.h"
 #include "tear/triangulate_polygon.h"
 

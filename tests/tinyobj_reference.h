@@ -4,7 +4,7 @@
 
 #include <string>
 
-#include "io/file_mesh.h"
+#include "io/mesh/file_mesh.h"
 
 namespace tear {
 

@@ -3,8 +3,8 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <system_error>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -35,7 +35,8 @@ struct BenchArgs {
 class ScratchFolder {
  public:
   explicit ScratchFolder(const std::string& parent) {
-    const std::filesystem::path base = parent.empty() ? std::filesystem::temp_directory_path() : std::filesystem::path(parent);
+    const std::filesystem::path base =
+        parent.empty() ? std::filesystem::temp_directory_path() : std::filesystem::path(parent);
     path_ = base / ("tear-bench-io." + std::to_string(::getpid()));
     std::error_code error;
     std::filesystem::create_directories(path_, error);
@@ -142,12 +143,8 @@ bool wanted(const BenchArgs& args, const std::string& part) {
   return false;
 }
 
-void run_bench(const BenchArgs& args) {
-  for (const std::string& part : args.only)
-    if (part != "remesh" && part != "pd" && part != "scene" && part != "tear" && part != "io")
-      throw Error(ErrorKind::usage, "--only " + part + ": expected remesh, pd, scene, tear or io");
-  const Device device = select_device(args.device);
-  const bool with_cpu = device == Device::cuda && !args.no_cpu;
+/// The benchmark's options from the command line; `--only` parts and `--resolutions` checked.
+BenchOptions bench_options(const BenchArgs& args) {
   BenchOptions options;
   if (!args.faces.empty()) options.face_counts = args.faces;
   options.repeats = args.repeats;
@@ -163,6 +160,91 @@ void run_bench(const BenchArgs& args) {
       }
     }
   }
+  return options;
+}
+
+nlohmann::json bench_remesh(const BenchOptions& options, Device device, bool with_cpu) {
+  std::printf("\nremesh: one cut by a %d-segment zigzag across an irregular sheet\n", options.segments);
+  std::printf("%10s  %-4s  %10s  %12s", "faces", "dev", "remesh", "faces/s");
+  for (int s = 0; s < static_cast<int>(CutStage::count); ++s)
+    std::printf("  %8.8s", to_string(static_cast<CutStage>(s)));
+  std::printf("  %9s  %7s%s\n", "peak MiB", "B/face", with_cpu ? "  cpu/gpu" : "");
+  std::fflush(stdout);
+  return run_sizes(
+      options, device, with_cpu, [](const BenchOptions& one, Device d) { return run_remesh_bench(one, d)[0]; },
+      print_remesh_row);
+}
+
+void bench_pd(const BenchOptions& options, Device device, bool with_cpu, nlohmann::json& doc) {
+  const double bandwidth = measure_copy_bandwidth(device);
+  const double cpu_bandwidth = with_cpu ? measure_copy_bandwidth(Device::cpu) : 0.0;
+  std::printf("\nsolver: one step of %d iterations, sheet pinned along its top edge; copy bandwidth %.0f GB/s",
+              options.iterations, bandwidth * 1e-9);
+  if (with_cpu) std::printf(" (cpu %.0f GB/s)", cpu_bandwidth * 1e-9);
+  std::printf("\n%10s  %9s  %-4s  %9s  %10s  %12s  %9s  %9s  %9s%s\n", "faces", "nodes", "dev", "step", "iteration",
+              "node-it/s", "B/node-it", "floor", "peak MiB", with_cpu ? "  cpu/gpu" : "");
+  std::fflush(stdout);
+  const nlohmann::json rows = run_sizes(
+      options, device, with_cpu,
+      [&](const BenchOptions& one, Device d) {
+        return run_pd_bench(one, d, d == device ? bandwidth : cpu_bandwidth)[0];
+      },
+      print_pd_row);
+  doc["copy_bandwidth_bytes_per_s"] = bandwidth;
+  if (with_cpu) doc["cpu_copy_bandwidth_bytes_per_s"] = cpu_bandwidth;
+  doc["pd"] = rows;
+}
+
+nlohmann::json bench_scene(const BenchOptions& options, Device device, bool with_cpu) {
+  std::printf("\nscene: the paper's (tear demo), %d iterations per frame, no output; ms per frame\n",
+              options.iterations);
+  std::printf("%-7s  %8s  %8s  %-4s  %9s  %9s  %10s  %12s%s\n", "size", "faces", "at end", "dev", "mean", "max",
+              "remesh", "simulation", with_cpu ? "  cpu/gpu" : "");
+  std::fflush(stdout);
+  return run_paired<SceneBenchRow>(
+      device, with_cpu, [&](Device d) { return run_scene_bench(options, d); }, print_scene_row);
+}
+
+nlohmann::json bench_tear(const BenchOptions& options, Device device, bool with_cpu) {
+  std::printf(
+      "\ntear: the pull scene (tear demo --scene pull), its own substeps and iterations, no output; "
+      "per-frame means in ms\n");
+  std::printf("%-7s  %8s  %8s  %-4s  %7s  %9s  %9s  %8s  %8s  %8s  %8s%s\n", "size", "faces", "at end", "dev", "torn",
+              "frame", "solver", "check", "apply", "rebuild", "tear/sol", with_cpu ? "  cpu/gpu" : "");
+  std::fflush(stdout);
+  return run_paired<TearBenchRow>(
+      device, with_cpu, [&](Device d) { return run_tear_bench(options, d); }, print_tear_row);
+}
+
+nlohmann::json bench_io(const BenchOptions& options, const std::string& io_folder) {
+  const ScratchFolder folder(io_folder);
+  std::printf(
+      "\nio: a cloth's frame (UVs, normals, velocities, ids, origins) encoded, written atomically "
+      "(flushed to the disk) and read back in %s\n",
+      folder.path().c_str());
+  std::printf("%10s  %-6s  %9s  %9s  %9s  %9s  %9s  %9s\n", "faces", "format", "MB", "encode", "write", "read",
+              "enc MB/s", "read MB/s");
+  std::fflush(stdout);
+  nlohmann::json rows = nlohmann::json::array();
+  for (index_t faces : options.face_counts) {
+    BenchOptions one = options;
+    one.face_counts = {faces};
+    for (const IoBenchRow& row : run_io_bench(one, folder.path())) {
+      print_io_row(row);
+      rows.push_back(nlohmann::json::parse(to_json(row)));
+    }
+    std::fflush(stdout);
+  }
+  return rows;
+}
+
+void run_bench(const BenchArgs& args) {
+  for (const std::string& part : args.only)
+    if (part != "remesh" && part != "pd" && part != "scene" && part != "tear" && part != "io")
+      throw Error(ErrorKind::usage, "--only " + part + ": expected remesh, pd, scene, tear or io");
+  const Device device = select_device(args.device);
+  const bool with_cpu = device == Device::cuda && !args.no_cpu;
+  const BenchOptions options = bench_options(args);
   // Everything that can be refused is, before the first line of a table: the sizes, and that the
   // JSON file can be written.
   check_bench_options(options);
@@ -170,85 +252,14 @@ void run_bench(const BenchArgs& args) {
   if (!args.json_path.empty()) remove_stale_temporaries({args.json_path});
   std::printf("tear bench on %s%s; medians of %d runs after %d untimed, milliseconds\n", device_name(device).c_str(),
               with_cpu ? (" and " + device_name(Device::cpu)).c_str() : "", options.repeats, options.warmup);
-  nlohmann::json doc = {{"device_name", device_name(device)},
-                        {"cpu_name", device_name(Device::cpu)},
-                        {"repeats", options.repeats},
-                        {"warmup", options.warmup},
-                        {"iterations", options.iterations},
-                        {"segments", options.segments}};
-
-  if (wanted(args, "remesh")) {
-    std::printf("\nremesh: one cut by a %d-segment zigzag across an irregular sheet\n", options.segments);
-    std::printf("%10s  %-4s  %10s  %12s", "faces", "dev", "remesh", "faces/s");
-    for (int s = 0; s < static_cast<int>(CutStage::count); ++s)
-      std::printf("  %8.8s", to_string(static_cast<CutStage>(s)));
-    std::printf("  %9s  %7s%s\n", "peak MiB", "B/face", with_cpu ? "  cpu/gpu" : "");
-    std::fflush(stdout);
-    doc["remesh"] = run_sizes(
-        options, device, with_cpu, [](const BenchOptions& one, Device d) { return run_remesh_bench(one, d)[0]; },
-        print_remesh_row);
-  }
-
-  if (wanted(args, "pd")) {
-    const double bandwidth = measure_copy_bandwidth(device);
-    const double cpu_bandwidth = with_cpu ? measure_copy_bandwidth(Device::cpu) : 0.0;
-    std::printf("\nsolver: one step of %d iterations, sheet pinned along its top edge; copy bandwidth %.0f GB/s",
-                options.iterations, bandwidth * 1e-9);
-    if (with_cpu) std::printf(" (cpu %.0f GB/s)", cpu_bandwidth * 1e-9);
-    std::printf("\n%10s  %9s  %-4s  %9s  %10s  %12s  %9s  %9s  %9s%s\n", "faces", "nodes", "dev", "step", "iteration",
-                "node-it/s", "B/node-it", "floor", "peak MiB", with_cpu ? "  cpu/gpu" : "");
-    std::fflush(stdout);
-    const nlohmann::json rows = run_sizes(
-        options, device, with_cpu,
-        [&](const BenchOptions& one, Device d) {
-          return run_pd_bench(one, d, d == device ? bandwidth : cpu_bandwidth)[0];
-        },
-        print_pd_row);
-    doc["copy_bandwidth_bytes_per_s"] = bandwidth;
-    if (with_cpu) doc["cpu_copy_bandwidth_bytes_per_s"] = cpu_bandwidth;
-    doc["pd"] = rows;
-  }
-
-  if (wanted(args, "scene")) {
-    std::printf("\nscene: the paper's (tear demo), %d iterations per frame, no output; ms per frame\n",
-                options.iterations);
-    std::printf("%-7s  %8s  %8s  %-4s  %9s  %9s  %10s  %12s%s\n", "size", "faces", "at end", "dev", "mean", "max",
-                "remesh", "simulation", with_cpu ? "  cpu/gpu" : "");
-    std::fflush(stdout);
-    doc["scene"] = run_paired<SceneBenchRow>(
-        device, with_cpu, [&](Device d) { return run_scene_bench(options, d); }, print_scene_row);
-  }
-
-  if (wanted(args, "tear")) {
-    std::printf("\ntear: the pull scene (tear demo --scene pull), its own substeps and iterations, no output; "
-                "per-frame means in ms\n");
-    std::printf("%-7s  %8s  %8s  %-4s  %7s  %9s  %9s  %8s  %8s  %8s  %8s%s\n", "size", "faces", "at end", "dev", "torn",
-                "frame", "solver", "check", "apply", "rebuild", "tear/sol", with_cpu ? "  cpu/gpu" : "");
-    std::fflush(stdout);
-    doc["tear"] = run_paired<TearBenchRow>(
-        device, with_cpu, [&](Device d) { return run_tear_bench(options, d); }, print_tear_row);
-  }
-
-  if (wanted(args, "io")) {
-    const ScratchFolder folder(args.io_folder);
-    std::printf("\nio: a cloth's frame (UVs, normals, velocities, ids, origins) encoded, written atomically "
-                "(flushed to the disk) and read back in %s\n", folder.path().c_str());
-    std::printf("%10s  %-6s  %9s  %9s  %9s  %9s  %9s  %9s\n", "faces", "format", "MB", "encode", "write", "read",
-                "enc MB/s", "read MB/s");
-    std::fflush(stdout);
-    nlohmann::json rows = nlohmann::json::array();
-    for (index_t faces : options.face_counts) {
-      BenchOptions one = options;
-      one.face_counts = {faces};
-      for (const IoBenchRow& row : run_io_bench(one, folder.path())) {
-        print_io_row(row);
-        rows.push_back(nlohmann::json::parse(to_json(row)));
-      }
-      std::fflush(stdout);
-    }
-    doc["io"] = rows;
-  }
-
+  nlohmann::json doc = {{"device_name", device_name(device)}, {"cpu_name", device_name(Device::cpu)},
+                        {"repeats", options.repeats},         {"warmup", options.warmup},
+                        {"iterations", options.iterations},   {"segments", options.segments}};
+  if (wanted(args, "remesh")) doc["remesh"] = bench_remesh(options, device, with_cpu);
+  if (wanted(args, "pd")) bench_pd(options, device, with_cpu, doc);
+  if (wanted(args, "scene")) doc["scene"] = bench_scene(options, device, with_cpu);
+  if (wanted(args, "tear")) doc["tear"] = bench_tear(options, device, with_cpu);
+  if (wanted(args, "io")) doc["io"] = bench_io(options, args.io_folder);
   if (!args.json_path.empty()) write_file_atomically(args.json_path, doc.dump(2) + "\n");
 }
 }  // namespace
@@ -270,13 +281,16 @@ void add_bench_command(CLI::App& app) {
       "ratio. No time is asserted.");
   add_device_option(*cmd, args->device);
   cmd->add_option("--faces", args->faces, "Sheet sizes in faces, comma separated (even, >= 2)")->delimiter(',');
-  cmd->add_option("--repeats", args->repeats, "Timed runs per size and backend (median reported)")->check(CLI::Range(1, 1000));
+  cmd->add_option("--repeats", args->repeats, "Timed runs per size and backend (median reported)")
+      ->check(CLI::Range(1, 1000));
   cmd->add_option("--warmup", args->warmup, "Untimed runs before the timed ones")->check(CLI::Range(0, 1000));
   cmd->add_option("--iterations", args->iterations, "Solver iterations per step (pd) and per frame (scene)")
       ->check(CLI::Range(1, 100000));
-  cmd->add_option("--resolutions", args->resolutions, "Resolutions of the scene part: low, medium, high (comma separated)")
+  cmd->add_option("--resolutions", args->resolutions,
+                  "Resolutions of the scene part: low, medium, high (comma separated)")
       ->delimiter(',');
-  cmd->add_option("--only", args->only, "Run only these parts: remesh, pd, scene, tear, io (comma separated)")->delimiter(',');
+  cmd->add_option("--only", args->only, "Run only these parts: remesh, pd, scene, tear, io (comma separated)")
+      ->delimiter(',');
   cmd->add_option("--json", args->json_path, "Also write every number to this JSON file");
   cmd->add_option("--io-folder", args->io_folder,
                   "Folder the io part writes its files in (a folder of its own inside, removed after; default: "

@@ -61,9 +61,4 @@ void add_read_options(CLI::App& command, ReadOptions& options);
 /// what is returned can go to `build_topology`.
 Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Device device);
 
-/// The files a run writes: the `frame_count` frames of `pattern` numbered from `first_number`, then
-/// the report when there is one.
-std::vector<std::string> output_paths(const FramePattern& pattern, int frame_count, const std::string& report_path,
-                                      int first_number = 1);
-
 }  // namespace tear::cli

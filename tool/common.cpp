@@ -90,19 +90,4 @@ Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Devi
   return mesh;
 }
 
-std::vector<std::string> output_paths(const FramePattern& pattern, int frame_count, const std::string& report_path,
-                                      int first_number) {
-  std::vector<std::string> paths;
-  const int files = pattern.has_frame_number() ? frame_count : 1;
-  check_first_frame(first_number, files);
-  for (int i = 0; i < files; ++i) paths.push_back(pattern.path(first_number + i));
-  // A USD layer for the whole run streams its samples to temporaries of their own.
-  if (!pattern.has_frame_number() && is_usd_path(pattern.pattern())) {
-    const std::vector<std::string> samples = usd_layer_sample_paths(pattern.path(first_number));
-    paths.insert(paths.end(), samples.begin(), samples.end());
-  }
-  if (!report_path.empty()) paths.push_back(report_path);
-  return paths;
-}
-
 }  // namespace tear::cli

@@ -66,15 +66,12 @@ void run_demo(const DemoCommandOptions& options) {
   run.device = device;
   run.report_path = options.report_path;
   const std::string mesh_name = "(demo sheet, " + std::string(to_string(resolution)) + " resolution)";
-  const FramePattern frames(run.output_pattern);
-  frames.check(options.frames, options.start_frame);
-  check_output_files({}, &frames, options.frames,
-                     {{"the report", options.report_path}, {"the checkpoint", options.farm.checkpoint_path}},
-                     options.start_frame);
-  std::vector<std::string> outputs = output_paths(frames, options.frames, options.report_path, options.start_frame);
-  if (!options.farm.checkpoint_path.empty()) outputs.push_back(options.farm.checkpoint_path);
-  remove_stale_temporaries(outputs);
   apply_farm_options(options.farm, run);
+  // The library checks the whole plan (frames, outputs, checkpoint) once, before anything is written.
+  run.check_outputs = true;
+  const RunPlan plan = check_run_plan(sheet, mesh_name, script, run);
+  run.plan_checked = true;
+  remove_stale_temporaries(plan.outputs);
   FrameProgress progress(options.farm.progress, options.frames);
   run.on_frame = [&](const FrameResult& frame) {
     progress.frame(frame.frame, "frames, " + std::to_string(frame.faces_end) + " faces");

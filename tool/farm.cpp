@@ -56,8 +56,6 @@ void add_farm_options(CLI::App& command, FarmOptions& options) {
 }
 
 void apply_farm_options(const FarmOptions& options, RunOptions& run) {
-  if (options.resume && options.checkpoint_path.empty())
-    throw Error(ErrorKind::usage, "--resume needs --checkpoint PATH (the checkpoint to go on from)");
   run.checkpoint_path = options.checkpoint_path;
   run.checkpoint_every = options.checkpoint_every;
   run.resume = options.resume;
@@ -66,7 +64,8 @@ void apply_farm_options(const FarmOptions& options, RunOptions& run) {
   run.stop = &stop_requested;
 }
 
-FrameProgress::FrameProgress(const std::string& mode, int total) : lines_(mode == "lines"), total_(total > 0 ? total : 1) {
+FrameProgress::FrameProgress(const std::string& mode, int total)
+    : lines_(mode == "lines"), total_(total > 0 ? total : 1) {
   if (mode == "bar" || mode == "auto") bar_ = std::make_unique<ProgressBar>(total, mode == "bar");
 }
 

@@ -24,9 +24,9 @@ struct FarmOptions {
 /// and `--writer-threads N`.
 void add_farm_options(CLI::App& command, FarmOptions& options);
 
-/// Copies the checkpoint options and the writer threads into `run`, installs the SIGTERM/SIGINT handlers that stop the run
-/// after the frame being written (`RunOptions::stop`), and checks the combination (`--resume`
-/// needs `--checkpoint`: a usage `Error`).
+/// Copies the checkpoint options and the writer threads into `run`, and installs the SIGTERM/SIGINT
+/// handlers that stop the run after the frame being written (`RunOptions::stop`). The combination
+/// (`--resume` needs `--checkpoint`) is checked with the run's plan (`check_run_plan`).
 void apply_farm_options(const FarmOptions& options, RunOptions& run);
 
 /// Progress of a run's frames on standard error: `bar` draws a bar, `lines` prints one line per

@@ -97,27 +97,20 @@ void run_run(const RunCommandOptions& options) {
   run.start_frame = options.start_frame;
   run.up_axis = up_axis;
   run.meters_per_unit = options.meters_per_unit;
-  const int frame_count = options.frames == 0 ? script.frames : options.frames;
-  if (frame_count > script.frames)
-    throw Error(ErrorKind::usage, options.script_path + ": --frames " + std::to_string(frame_count) +
-                                      " is more than the script's " + std::to_string(script.frames) + " frames");
-  // Every check of the inputs (run_to_files is told not to repeat them), then the outputs: none may be an input,
-  // and every folder must be writable, before anything is written.
-  const FramePattern pattern(options.output_pattern);
-  pattern.check(frame_count, options.start_frame);
-  check_run_inputs(script, mesh, options.mesh_path, device);
-  run.inputs_checked = true;
-  run.input_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  check_output_files({{"mesh", options.mesh_path}, {"script", options.script_path}}, &pattern, frame_count,
-                     {{"the report", options.report_path}, {"the checkpoint", options.farm.checkpoint_path}},
-                     options.start_frame);
-  std::vector<std::string> outputs = output_paths(pattern, frame_count, options.report_path, options.start_frame);
-  if (!options.farm.checkpoint_path.empty()) outputs.push_back(options.farm.checkpoint_path);
-  remove_stale_temporaries(outputs);
   // What changes results besides the mesh, the script and the device, for the checkpoint's digest.
-  run.result_options = "mesh-name=" + options.read.mesh_name + ";weld-tolerance=" + std::to_string(options.read.weld_tolerance) +
+  run.result_options = "mesh-name=" + options.read.mesh_name +
+                       ";weld-tolerance=" + std::to_string(options.read.weld_tolerance) +
                        ";weld=" + (options.read.weld ? "1" : "0");
   apply_farm_options(options.farm, run);
+  // The library checks the whole plan (frames, inputs, outputs: none may be an input, every folder
+  // must be writable; checkpoint) once, before anything is written.
+  run.check_outputs = true;
+  run.input_files = {{"mesh", options.mesh_path}, {"script", options.script_path}};
+  const RunPlan plan = check_run_plan(mesh, options.mesh_path, script, run);
+  run.plan_checked = true;
+  run.input_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  remove_stale_temporaries(plan.outputs);
+  const int frame_count = plan.frame_count;
   FrameProgress progress(options.farm.progress, frame_count);
   run.on_frame = [&](const FrameResult& frame) {
     if (options.verbose) {

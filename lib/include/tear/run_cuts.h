@@ -10,6 +10,7 @@
 #include "tear/cut_script.h"
 #include "tear/device.h"
 #include "tear/mesh.h"
+#include "tear/output_files.h"
 #include "tear/usd_layer.h"
 
 namespace tear {
@@ -109,9 +110,15 @@ struct RunOptions {
   /// The options that change results besides the mesh, the script and the device, spelled out
   /// ("name=value;..."), so that a checkpoint made with others is refused.
   std::string result_options;
-  /// True when the caller has run `check_run_inputs` on this mesh and script with this device (as
-  /// `tear run` does, before it checks its outputs): `run_to_files` does not run it again.
-  bool inputs_checked = false;
+  /// When true, `check_run_plan` also checks the outputs (`check_output_files`): no output is one
+  /// of `input_files`, no two outputs are the same file, and every output folder can be made
+  /// (`tear run` and `tear demo` set it).
+  bool check_outputs = false;
+  /// The files the run reads, for `check_outputs`: {"mesh", "cloth.obj"}, {"script", "shot.json"}.
+  std::vector<NamedPath> input_files;
+  /// True when the caller has run `check_run_plan` on this mesh and script with these options (as
+  /// `tear run` does, before it clears stale temporary files): `run_to_files` does not check again.
+  bool plan_checked = false;
   /// Milliseconds the caller spent reading and checking the inputs, for the report's
   /// `totals.input_ms` (0 when not measured).
   double input_ms = 0;
@@ -121,6 +128,24 @@ struct RunOptions {
   const volatile std::sig_atomic_t* stop = nullptr;
 };
 
+/// What a run will write, as `check_run_plan` found it.
+struct RunPlan {
+  int frame_count = 0;  ///< frames the run computes and writes: `RunOptions::frames`, or all of the script's
+  /// Every file the run writes: its frames (a single USD layer with the sample files it streams to),
+  /// the report and the checkpoint when there are; for `remove_stale_temporaries`.
+  std::vector<std::string> outputs;
+};
+
+/// Every check of a run, before anything is read from or written to its outputs, in this order:
+/// the pattern's syntax and format; `frames` within 1..script.frames (a usage `Error`, "--frames N
+/// is more than the script's M frames" when above); the frame numbers and the pattern against the
+/// frame count (`FramePattern::check`: a placeholder for more than one frame); `meters_per_unit`;
+/// `check_run_inputs`; with `check_outputs`, the outputs (`check_output_files`); and last the
+/// checkpoint options (`resume` needs a `checkpoint_path`; a single USD layer cannot be
+/// checkpointed: usage `Error`s). Throws the first `Error` found; creates nothing.
+RunPlan check_run_plan(const Mesh& mesh, const std::string& mesh_path, const CutScript& script,
+                       const RunOptions& options);
+
 /// What `run_to_files` did, for a summary line.
 struct RunSummary {
   int frames = 0;
@@ -128,8 +153,8 @@ struct RunSummary {
   double wall_ms = 0;
 };
 
-/// A whole run: checks everything first (pattern and output format, start frame and USD metadata,
-/// script against mesh, cuttability, frame count; usage and input `Error`s), and only then creates
+/// A whole run: checks everything first (`check_run_plan`, unless `RunOptions::plan_checked`
+/// says the caller did), and only then creates
 /// the output folders and writes every frame from `cloth.mesh()` to the sink the pattern names:
 /// one file per frame (`FrameFiles`: `write_mesh`, atomic), or one USD layer for the run
 /// (`UsdLayer`, a .usda/.usd pattern without frame number): positions, faces and the corner UVs

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "io/file_mesh.h"
+#include "io/mesh/file_mesh.h"
 #include "tear/error.h"
 
 namespace tear {

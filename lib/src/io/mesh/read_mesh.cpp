@@ -10,7 +10,7 @@
 #include <sstream>
 #include <string>
 
-#include "io/file_mesh.h"
+#include "io/mesh/file_mesh.h"
 #include "tear/error.h"
 
 namespace tear {

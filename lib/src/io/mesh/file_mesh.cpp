@@ -1,4 +1,4 @@
-#include "io/file_mesh.h"
+#include "io/mesh/file_mesh.h"
 
 #include <algorithm>
 #include <cmath>
@@ -58,17 +58,9 @@ T* grow(std::vector<T>& values, std::size_t count) {
   return values.data() + at;
 }
 
-}  // namespace
-
-void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normals, bool with_velocities, bool with_ids,
-                   FileMesh& out) {
-  const Transform& t = placed.transform;
-  const bool identity = t.is_identity();
-  const double det = t.linear_determinant();
-  // A mirroring transform turns counter-clockwise faces clockwise; swapping two corners restores it.
-  const bool mirrored = det < 0.0;
-  // Normals go through the inverse transpose of the linear part: the cofactor matrix over det.
-  double normal_matrix[3][3];
+/// The inverse transpose of the linear part of `t`, through which normals go: the cofactor matrix
+/// over the determinant `det` (the cofactors alone where it is 0).
+void normal_matrix_of(const Transform& t, double det, double normal_matrix[3][3]) {
   for (int r = 0; r < 3; ++r) {
     for (int c = 0; c < 3; ++c) {
       const int r1 = (r + 1) % 3, r2 = (r + 2) % 3, c1 = (c + 1) % 3, c2 = (c + 2) % 3;
@@ -76,24 +68,31 @@ void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normal
       normal_matrix[r][c] = det != 0.0 ? cofactor / det : cofactor;
     }
   }
+}
 
-  Mesh& mesh = out.mesh;
-  const index_t base = mesh.node_count();
-  // Room for this placement, so that a large primitive is not copied as its arrays grow (and
-  // still geometric growth, so that many small ones are not copied once each).
+/// Room for a placement of `vertex_count` vertices and `corners` corners, so that a large primitive
+/// is not copied as its arrays grow (and still geometric growth, so that many small ones are not
+/// copied once each).
+void make_room(std::size_t vertex_count, std::size_t corners, bool with_uv, bool with_normals, bool with_velocities,
+               bool with_ids, FileMesh& out) {
   auto room_for = [](auto& values, std::size_t more) {
     if (values.capacity() < values.size() + more) values.reserve(std::max(values.size() + more, 2 * values.size()));
   };
-  const std::size_t vertex_count = static_cast<std::size_t>(placed.vertex_count);
-  const std::vector<index_t>& triangles = *placed.triangles;
-  const std::size_t corners = triangles.size() / 3 * 3;
+  Mesh& mesh = out.mesh;
   room_for(mesh.node_pos, 3 * vertex_count);
   if (with_velocities) room_for(mesh.node_vel, 3 * vertex_count);
   if (with_ids) room_for(out.vertex_id, vertex_count);
   room_for(mesh.face_nodes, corners);
   if (with_uv) room_for(mesh.corner_uv, 2 * corners);
   if (with_normals) room_for(mesh.corner_normal, 3 * corners);
-  // Nodes: copied whole where the transform is the identity, else one by one.
+}
+
+/// The placement's vertices as nodes: copied whole where the transform is the identity, else one
+/// by one; velocities (zeros where the primitive has none) and ids (-1 where it has none).
+void append_nodes(const PlacedTriangles& placed, bool identity, bool with_velocities, bool with_ids, FileMesh& out) {
+  const Transform& t = placed.transform;
+  Mesh& mesh = out.mesh;
+  const std::size_t vertex_count = static_cast<std::size_t>(placed.vertex_count);
   if (identity) {
     mesh.node_pos.insert(mesh.node_pos.end(), placed.vertex_pos, placed.vertex_pos + 3 * vertex_count);
   } else {
@@ -122,6 +121,26 @@ void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normal
     else
       out.vertex_id.insert(out.vertex_id.end(), vertex_count, none);
   }
+}
+
+}  // namespace
+
+void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normals, bool with_velocities, bool with_ids,
+                   FileMesh& out) {
+  const bool identity = placed.transform.is_identity();
+  const double det = placed.transform.linear_determinant();
+  // A mirroring transform turns counter-clockwise faces clockwise; swapping two corners restores it.
+  const bool mirrored = det < 0.0;
+  double normal_matrix[3][3];
+  normal_matrix_of(placed.transform, det, normal_matrix);
+
+  Mesh& mesh = out.mesh;
+  const index_t base = mesh.node_count();
+  const std::vector<index_t>& triangles = *placed.triangles;
+  const std::size_t corners = triangles.size() / 3 * 3;
+  make_room(static_cast<std::size_t>(placed.vertex_count), corners, with_uv, with_normals, with_velocities, with_ids,
+            out);
+  append_nodes(placed, identity, with_velocities, with_ids, out);
 
   // Faces, and their corners' values gathered from their vertices: each corner written in place,
   // on OpenMP threads for a large primitive (every corner is its own, so the result is the same).
@@ -149,7 +168,8 @@ void append_placed(const PlacedTriangles& placed, bool with_uv, bool with_normal
       continue;
     }
     double m[3];
-    for (int r = 0; r < 3; ++r) m[r] = normal_matrix[r][0] * n[0] + normal_matrix[r][1] * n[1] + normal_matrix[r][2] * n[2];
+    for (int r = 0; r < 3; ++r)
+      m[r] = normal_matrix[r][0] * n[0] + normal_matrix[r][1] * n[1] + normal_matrix[r][2] * n[2];
     const double length = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
     const double scale = length > 0.0 ? 1.0 / length : 0.0;
     for (int r = 0; r < 3; ++r) corner_normal[3 * c + r] = static_cast<float>(m[r] * scale);

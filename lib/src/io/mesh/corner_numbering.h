@@ -5,7 +5,7 @@
 
 #include <vector>
 
-#include "io/parallel_pieces.h"
+#include "io/mesh/parallel_pieces.h"
 #include "tear/mesh.h"
 
 namespace tear {

@@ -124,11 +124,13 @@ std::string Difference::describe() const {
   return "unknown difference";
 }
 
-MeshDiff diff_meshes(const Mesh& a, const Mesh& b, const DiffOptions& options) {
-  MeshDiff result;
-  Difference& first = result.first;
+namespace {
 
-  // Counts.
+/// Faces of `a` and `b` on the same nodes, as pairs of canonical faces.
+using MatchedFaces = std::vector<std::pair<const CanonicalFace*, const CanonicalFace*>>;
+
+/// The node and face counts of `a` and `b`.
+void compare_counts(const Mesh& a, const Mesh& b, Difference& first) {
   if (a.node_count() != b.node_count()) {
     Difference d;
     d.kind = DiffKind::NodeCount;
@@ -145,10 +147,13 @@ MeshDiff diff_meshes(const Mesh& a, const Mesh& b, const DiffOptions& options) {
     d.by = std::fabs(d.value_a - d.value_b);
     keep_first(first, d);
   }
+}
 
-  // Faces as sets: a merge of the two sorted canonical lists. Matched pairs give the corner map.
-  const std::vector<CanonicalFace> fa = canonical_faces(a), fb = canonical_faces(b);
-  std::vector<std::pair<const CanonicalFace*, const CanonicalFace*>> matched;
+/// Faces as sets: a merge of the two sorted canonical lists `fa` and `fb`. Matched pairs give the
+/// corner map; the lowest face of either mesh that has no match is a difference.
+MatchedFaces match_faces(const std::vector<CanonicalFace>& fa, const std::vector<CanonicalFace>& fb,
+                         Difference& first) {
+  MatchedFaces matched;
   index_t unmatched_a = none, unmatched_b = none;  // lowest unmatched face index of each
   auto note = [](index_t& lowest, index_t face) { lowest = lowest == none ? face : std::min(lowest, face); };
   for (std::size_t i = 0, j = 0; i < fa.size() || j < fb.size();) {
@@ -167,49 +172,63 @@ MeshDiff diff_meshes(const Mesh& a, const Mesh& b, const DiffOptions& options) {
     d.element = d.in_b ? unmatched_b : unmatched_a;
     keep_first(first, d);
   }
+  return matched;
+}
 
-  // Node values over the nodes both meshes have.
+/// Node values over the nodes both meshes have: positions, and velocities when both have them.
+void compare_nodes(const Mesh& a, const Mesh& b, const DiffOptions& options, MeshDiff& result) {
   const std::size_t common_nodes = static_cast<std::size_t>(std::min(a.node_count(), b.node_count()));
   const bool velocities = a.has_velocities() && b.has_velocities();
   for (std::size_t n = 0; n < common_nodes; ++n) {
     Difference d;
     d.element = static_cast<index_t>(n);
     d.kind = DiffKind::Position;
-    compare_values(a.node_pos, b.node_pos, n, n, 3, options.tolerance, d, result.max_position, first);
+    compare_values(a.node_pos, b.node_pos, n, n, 3, options.tolerance, d, result.max_position, result.first);
     if (velocities) {
       d.kind = DiffKind::Velocity;
-      compare_values(a.node_vel, b.node_vel, n, n, 3, options.tolerance, d, result.max_velocity, first);
+      compare_values(a.node_vel, b.node_vel, n, n, 3, options.tolerance, d, result.max_velocity, result.first);
     }
   }
+}
 
-  // Corner values through the face matching: canonical corner k is corner (rotation + k) % 3.
-  auto compare_corners = [&](DiffKind kind, const std::vector<float>& va, const std::vector<float>& vb, int width,
-                             double& max) {
-    if (va.empty() != vb.empty()) {
+/// Corner values through the face matching: canonical corner k is corner (rotation + k) % 3.
+void compare_corners(DiffKind kind, const std::vector<float>& va, const std::vector<float>& vb, int width,
+                     const MatchedFaces& matched, double tolerance, double& max, Difference& first) {
+  if (va.empty() != vb.empty()) {
+    Difference d;
+    d.kind = kind;
+    d.value_a = va.empty() ? 0 : 1;
+    d.value_b = vb.empty() ? 0 : 1;
+    d.by = 1;
+    keep_first(first, d);
+    return;
+  }
+  if (va.empty()) return;
+  for (const auto& pair : matched) {
+    for (int k = 0; k < 3; ++k) {
+      const int corner_a = (pair.first->rotation + k) % 3, corner_b = (pair.second->rotation + k) % 3;
       Difference d;
       d.kind = kind;
-      d.value_a = va.empty() ? 0 : 1;
-      d.value_b = vb.empty() ? 0 : 1;
-      d.by = 1;
-      keep_first(first, d);
-      return;
+      d.element = pair.first->face;
+      d.corner = corner_a;
+      compare_values(va, vb, 3 * static_cast<std::size_t>(pair.first->face) + corner_a,
+                     3 * static_cast<std::size_t>(pair.second->face) + corner_b, width, tolerance, d, max, first);
     }
-    if (va.empty()) return;
-    for (const auto& pair : matched) {
-      for (int k = 0; k < 3; ++k) {
-        const int corner_a = (pair.first->rotation + k) % 3, corner_b = (pair.second->rotation + k) % 3;
-        Difference d;
-        d.kind = kind;
-        d.element = pair.first->face;
-        d.corner = corner_a;
-        compare_values(va, vb, 3 * static_cast<std::size_t>(pair.first->face) + corner_a,
-                       3 * static_cast<std::size_t>(pair.second->face) + corner_b, width, options.uv_tolerance, d, max,
-                       first);
-      }
-    }
-  };
-  compare_corners(DiffKind::Uv, a.corner_uv, b.corner_uv, 2, result.max_uv);
-  compare_corners(DiffKind::Normal, a.corner_normal, b.corner_normal, 3, result.max_normal);
+  }
+}
+
+}  // namespace
+
+MeshDiff diff_meshes(const Mesh& a, const Mesh& b, const DiffOptions& options) {
+  MeshDiff result;
+  compare_counts(a, b, result.first);
+  const std::vector<CanonicalFace> fa = canonical_faces(a), fb = canonical_faces(b);
+  const MatchedFaces matched = match_faces(fa, fb, result.first);
+  compare_nodes(a, b, options, result);
+  compare_corners(DiffKind::Uv, a.corner_uv, b.corner_uv, 2, matched, options.uv_tolerance, result.max_uv,
+                  result.first);
+  compare_corners(DiffKind::Normal, a.corner_normal, b.corner_normal, 3, matched, options.uv_tolerance,
+                  result.max_normal, result.first);
   return result;
 }
 

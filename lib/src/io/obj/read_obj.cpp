@@ -20,8 +20,8 @@
 #include <system_error>
 #include <vector>
 
-#include "io/file_mesh.h"
-#include "io/parallel_pieces.h"
+#include "io/mesh/file_mesh.h"
+#include "io/mesh/parallel_pieces.h"
 #include "tear/error.h"
 #include "tear/triangulate_polygon.h"
 
@@ -384,28 +384,18 @@ struct NameState {
   }
 };
 
-}  // namespace
+/// Where each piece's lines and faces start in the file's numbering.
+struct PieceOffsets {
+  std::size_t v = 0, vt = 0, vn = 0, face = 0, corner = 0, triangle_corner = 0;
+};
 
-FileMesh read_obj_file(const std::string& path, std::string text, const std::string& mesh_name,
-                       std::size_t piece_bytes) {
-  if (text.compare(0, 2, "\xFE\xFF") == 0 || text.compare(0, 2, "\xFF\xFE") == 0) {
-    throw input_error(path, "is UTF-16 text; OBJ files are read as UTF-8 (or ASCII)");
-  }
-  // A UTF-8 byte order mark (Windows editors write one) is no part of the first line.
-  const char* const begin = text.data() + (text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0);
-  const std::vector<const char*> bounds = piece_bounds(begin, text.data() + text.size(), piece_bytes);
-  const std::size_t piece_count = bounds.size() - 1;
-  std::vector<ObjPiece> pieces(piece_count);
-  for_each_piece(piece_count, [&](std::size_t k) { read_piece(bounds[k], bounds[k + 1], pieces[k]); });
-
-  // Count and scan: where each piece's lines and faces start in the file's numbering.
-  struct Offsets {
-    std::size_t v = 0, vt = 0, vn = 0, face = 0, corner = 0, triangle_corner = 0;
-  };
-  std::vector<Offsets> piece_offset(piece_count + 1);
+/// Count and scan: the offsets of every piece, and after the last one the file's totals.
+std::vector<PieceOffsets> piece_offsets(const std::string& path, const std::vector<ObjPiece>& pieces) {
+  const std::size_t piece_count = pieces.size();
+  std::vector<PieceOffsets> piece_offset(piece_count + 1);
   for (std::size_t k = 0; k < piece_count; ++k) {
     const ObjPiece& piece = pieces[k];
-    Offsets next = piece_offset[k];
+    PieceOffsets next = piece_offset[k];
     next.v += piece.vertex_pos.size() / 3;
     next.vt += piece.uv.size() / 2;
     next.vn += piece.normal.size() / 3;
@@ -413,12 +403,16 @@ FileMesh read_obj_file(const std::string& path, std::string text, const std::str
     next.corner += piece.corner_v.size();
     piece_offset[k + 1] = next;
   }
-  const Offsets total = piece_offset[piece_count];
+  const PieceOffsets& total = piece_offset[piece_count];
   if (total.v > max_index_count || total.corner > max_index_count) {
     throw input_error(path, "too large: more than 2^31 vertices or face corners");
   }
+  return piece_offset;
+}
 
-  // Which faces --mesh-name selects: the names are followed through the pieces in file order.
+/// Which faces --mesh-name selects: the names are followed through the pieces in file order.
+/// Returns the names seen, for the error when nothing is selected.
+NameState select_faces(std::vector<ObjPiece>& pieces, const std::string& mesh_name) {
   NameState names;
   names.mesh_name = mesh_name;
   names.selected = mesh_name.empty();
@@ -435,71 +429,100 @@ FileMesh read_obj_file(const std::string& path, std::string text, const std::str
       if (n < piece.name_lines.size()) names.apply(piece.name_lines[n]);
     }
   }
+  return names;
+}
 
-  // Relative indices joined to the file's numbering, and every index checked; the message is that
-  // of the first bad face in the file.
-  std::vector<std::string> piece_error(piece_count);
-  std::vector<std::uint8_t> piece_uv(piece_count, 0), piece_normals(piece_count, 0);
-  bool any_selected = false;
-  for (const ObjPiece& piece : pieces) {
-    any_selected = any_selected ||
-                   std::find(piece.face_selected.begin(), piece.face_selected.end(), 1) != piece.face_selected.end();
-  }
-  for_each_piece(piece_count, [&](std::size_t k) {
-    ObjPiece& piece = pieces[k];
-    const Offsets& at = piece_offset[k];
-    auto join = [](std::int64_t& index, std::size_t base) {
-      if (index >= relative / 2) index = index - relative + static_cast<std::int64_t>(base);
-    };
-    auto check = [&](std::int64_t index, std::size_t count, std::size_t face, const char* what, const char* keyword) {
-      if (index == absent || (index >= 0 && static_cast<std::size_t>(index) < count)) return true;
-      const std::string number = std::to_string(at.face + face + 1);
-      if (index == invalid) {
-        piece_error[k] = "face " + number + " has a " + what + " index of 0 or no number (OBJ indices start at 1)";
-      } else if (index < 0) {
-        piece_error[k] = "face " + number + " has a relative " + what + " index that reaches before the first '" +
-                         keyword + "' line";
-      } else {
-        piece_error[k] = "face " + number + " uses " + what + " " + std::to_string(index + 1) +
-                         ", out of range (the file has " + std::to_string(count) + " '" + keyword + "' lines)";
+/// An index of a face's corner checked against the file's count of its lines: empty when it is in
+/// range (or absent), else the message.
+std::string index_error(std::int64_t index, std::size_t count, std::size_t face_number, const char* what,
+                        const char* keyword) {
+  if (index == absent || (index >= 0 && static_cast<std::size_t>(index) < count)) return {};
+  const std::string number = std::to_string(face_number);
+  if (index == invalid)
+    return "face " + number + " has a " + what + " index of 0 or no number (OBJ indices start at 1)";
+  if (index < 0)
+    return "face " + number + " has a relative " + what + " index that reaches before the first '" + keyword + "' line";
+  return "face " + number + " uses " + what + " " + std::to_string(index + 1) + ", out of range (the file has " +
+         std::to_string(count) + " '" + keyword + "' lines)";
+}
+
+/// A piece's relative indices joined to the file's numbering, and every index checked. Returns the
+/// message of the piece's first bad face (empty when none), and whether its selected faces have
+/// UVs and normals; counts the triangle corners of its selected faces.
+std::string join_piece(ObjPiece& piece, const PieceOffsets& at, const PieceOffsets& total, bool& with_uv,
+                       bool& with_normals) {
+  auto join = [](std::int64_t& index, std::size_t base) {
+    if (index >= relative / 2) index = index - relative + static_cast<std::int64_t>(base);
+  };
+  const std::size_t face_count = piece.face_offset.size() - 1;
+  with_uv = with_normals = false;
+  for (std::size_t face = 0; face < face_count; ++face) {
+    for (std::size_t c = piece.face_offset[face]; c < piece.face_offset[face + 1]; ++c) {
+      join(piece.corner_v[c], at.v);
+      join(piece.corner_vt[c], at.vt);
+      join(piece.corner_vn[c], at.vn);
+      const std::size_t number = at.face + face + 1;
+      std::string error = index_error(piece.corner_v[c], total.v, number, "vertex", "v");
+      if (error.empty()) error = index_error(piece.corner_vt[c], total.vt, number, "texture coordinate", "vt");
+      if (error.empty()) error = index_error(piece.corner_vn[c], total.vn, number, "normal", "vn");
+      if (!error.empty()) {
+        with_uv = with_normals = false;
+        return error;
       }
-      return false;
-    };
-    const std::size_t face_count = piece.face_offset.size() - 1;
-    bool with_uv = false, with_normals = false;
-    for (std::size_t face = 0; face < face_count; ++face) {
-      for (std::size_t c = piece.face_offset[face]; c < piece.face_offset[face + 1]; ++c) {
-        join(piece.corner_v[c], at.v);
-        join(piece.corner_vt[c], at.vt);
-        join(piece.corner_vn[c], at.vn);
-        if (!check(piece.corner_v[c], total.v, face, "vertex", "v") ||
-            !check(piece.corner_vt[c], total.vt, face, "texture coordinate", "vt") ||
-            !check(piece.corner_vn[c], total.vn, face, "normal", "vn")) {
-          return;
-        }
-        if (!piece.face_selected[face]) continue;
-        with_uv = with_uv || piece.corner_vt[c] != absent;
-        with_normals = with_normals || piece.corner_vn[c] != absent;
-      }
-      const std::size_t corner_count = piece.face_offset[face + 1] - piece.face_offset[face];
-      if (piece.face_selected[face] && corner_count >= 3) piece.face_triangle_corners += 3 * (corner_count - 2);
+      if (!piece.face_selected[face]) continue;
+      with_uv = with_uv || piece.corner_vt[c] != absent;
+      with_normals = with_normals || piece.corner_vn[c] != absent;
     }
-    piece_uv[k] = with_uv;
-    piece_normals[k] = with_normals;
-  });
-  for (const std::string& error : piece_error) {
-    if (!error.empty()) throw input_error(path, error);
+    const std::size_t corner_count = piece.face_offset[face + 1] - piece.face_offset[face];
+    if (piece.face_selected[face] && corner_count >= 3) piece.face_triangle_corners += 3 * (corner_count - 2);
   }
-  if (!mesh_name.empty() && !any_selected) throw no_mesh_named(path, mesh_name, names.names);
-  const bool with_uv = std::find(piece_uv.begin(), piece_uv.end(), 1) != piece_uv.end();
-  const bool with_normals = std::find(piece_normals.begin(), piece_normals.end(), 1) != piece_normals.end();
-  for (std::size_t k = 0; k < piece_count; ++k) {
-    piece_offset[k + 1].triangle_corner = piece_offset[k].triangle_corner + pieces[k].face_triangle_corners;
-  }
-  const std::size_t triangle_corner_count = piece_offset[piece_count].triangle_corner;
-  if (triangle_corner_count > max_index_count) throw input_error(path, "too large: more than 2^31 face corners");
+  return {};
+}
 
-  // Write: the vertex arrays joined, then each piece's triangles at its offset.
+/// A piece's selected faces, triangulated, written from mesh corner `out_corner` on: nodes, and the
+/// corners' UVs and normals from the file's `uv` and `normal` arrays where the mesh has them.
+void write_piece_triangles(const ObjPiece& piece, std::size_t out_corner, const std::vector<float>& uv,
+                           const std::vector<float>& normal, bool with_uv, bool with_normals, Mesh& mesh) {
+  std::vector<float> polygon_pos;
+  std::vector<index_t> polygon_triangles;
+  static const std::vector<index_t> one_triangle = {0, 1, 2};
+  for (std::size_t face = 0; face + 1 < piece.face_offset.size(); ++face) {
+    const std::size_t first = piece.face_offset[face], corner_count = piece.face_offset[face + 1] - first;
+    if (!piece.face_selected[face] || corner_count < 3) continue;
+    const std::vector<index_t>* triangles = &one_triangle;
+    if (corner_count > 3) {
+      polygon_pos.clear();
+      for (std::size_t c = first; c < first + corner_count; ++c) {
+        const float* p = &mesh.node_pos[3 * static_cast<std::size_t>(piece.corner_v[c])];
+        polygon_pos.insert(polygon_pos.end(), p, p + 3);
+      }
+      polygon_triangles = triangulate_polygon(polygon_pos.data(), static_cast<index_t>(corner_count));
+      triangles = &polygon_triangles;
+    }
+    for (index_t corner : *triangles) {
+      const std::size_t c = first + static_cast<std::size_t>(corner);
+      mesh.face_nodes[out_corner] = static_cast<index_t>(piece.corner_v[c]);
+      if (with_uv) {
+        const std::int64_t t = piece.corner_vt[c];
+        mesh.corner_uv[2 * out_corner] = t == absent ? 0.0f : uv[2 * t];
+        mesh.corner_uv[2 * out_corner + 1] = t == absent ? 0.0f : uv[2 * t + 1];
+      }
+      if (with_normals) {
+        const std::int64_t n = piece.corner_vn[c];
+        for (int j = 0; j < 3; ++j) mesh.corner_normal[3 * out_corner + j] = n == absent ? 0.0f : normal[3 * n + j];
+      }
+      ++out_corner;
+    }
+  }
+}
+
+/// The mesh of the checked pieces: the vertex arrays joined, then each piece's triangles at its
+/// offset.
+FileMesh write_pieces(const std::vector<ObjPiece>& pieces, const std::vector<PieceOffsets>& piece_offset, bool with_uv,
+                      bool with_normals) {
+  const std::size_t piece_count = pieces.size();
+  const PieceOffsets& total = piece_offset[piece_count];
+  const std::size_t triangle_corner_count = total.triangle_corner;
   FileMesh out;
   Mesh& mesh = out.mesh;
   std::vector<float> uv, normal;
@@ -516,41 +539,54 @@ FileMesh read_obj_file(const std::string& path, std::string text, const std::str
     std::copy(piece.normal.begin(), piece.normal.end(), normal.begin() + 3 * piece_offset[k].vn);
   });
   for_each_piece(piece_count, [&](std::size_t k) {
-    const ObjPiece& piece = pieces[k];
-    std::size_t out_corner = piece_offset[k].triangle_corner;
-    std::vector<float> polygon_pos;
-    std::vector<index_t> polygon_triangles;
-    static const std::vector<index_t> one_triangle = {0, 1, 2};
-    for (std::size_t face = 0; face + 1 < piece.face_offset.size(); ++face) {
-      const std::size_t first = piece.face_offset[face], corner_count = piece.face_offset[face + 1] - first;
-      if (!piece.face_selected[face] || corner_count < 3) continue;
-      const std::vector<index_t>* triangles = &one_triangle;
-      if (corner_count > 3) {
-        polygon_pos.clear();
-        for (std::size_t c = first; c < first + corner_count; ++c) {
-          const float* p = &mesh.node_pos[3 * static_cast<std::size_t>(piece.corner_v[c])];
-          polygon_pos.insert(polygon_pos.end(), p, p + 3);
-        }
-        polygon_triangles = triangulate_polygon(polygon_pos.data(), static_cast<index_t>(corner_count));
-        triangles = &polygon_triangles;
-      }
-      for (index_t corner : *triangles) {
-        const std::size_t c = first + static_cast<std::size_t>(corner);
-        mesh.face_nodes[out_corner] = static_cast<index_t>(piece.corner_v[c]);
-        if (with_uv) {
-          const std::int64_t t = piece.corner_vt[c];
-          mesh.corner_uv[2 * out_corner] = t == absent ? 0.0f : uv[2 * t];
-          mesh.corner_uv[2 * out_corner + 1] = t == absent ? 0.0f : uv[2 * t + 1];
-        }
-        if (with_normals) {
-          const std::int64_t n = piece.corner_vn[c];
-          for (int j = 0; j < 3; ++j) mesh.corner_normal[3 * out_corner + j] = n == absent ? 0.0f : normal[3 * n + j];
-        }
-        ++out_corner;
-      }
-    }
+    write_piece_triangles(pieces[k], piece_offset[k].triangle_corner, uv, normal, with_uv, with_normals, mesh);
   });
   return out;
+}
+
+}  // namespace
+
+FileMesh read_obj_file(const std::string& path, std::string text, const std::string& mesh_name,
+                       std::size_t piece_bytes) {
+  if (text.compare(0, 2, "\xFE\xFF") == 0 || text.compare(0, 2, "\xFF\xFE") == 0) {
+    throw input_error(path, "is UTF-16 text; OBJ files are read as UTF-8 (or ASCII)");
+  }
+  // A UTF-8 byte order mark (Windows editors write one) is no part of the first line.
+  const char* const begin = text.data() + (text.compare(0, 3, "\xEF\xBB\xBF") == 0 ? 3 : 0);
+  const std::vector<const char*> bounds = piece_bounds(begin, text.data() + text.size(), piece_bytes);
+  const std::size_t piece_count = bounds.size() - 1;
+  std::vector<ObjPiece> pieces(piece_count);
+  for_each_piece(piece_count, [&](std::size_t k) { read_piece(bounds[k], bounds[k + 1], pieces[k]); });
+
+  std::vector<PieceOffsets> piece_offset = piece_offsets(path, pieces);
+  const NameState names = select_faces(pieces, mesh_name);
+
+  // The message is that of the first bad face in the file.
+  std::vector<std::string> piece_error(piece_count);
+  std::vector<std::uint8_t> piece_uv(piece_count, 0), piece_normals(piece_count, 0);
+  bool any_selected = false;
+  for (const ObjPiece& piece : pieces) {
+    any_selected = any_selected ||
+                   std::find(piece.face_selected.begin(), piece.face_selected.end(), 1) != piece.face_selected.end();
+  }
+  for_each_piece(piece_count, [&](std::size_t k) {
+    bool with_uv = false, with_normals = false;
+    piece_error[k] = join_piece(pieces[k], piece_offset[k], piece_offset[piece_count], with_uv, with_normals);
+    piece_uv[k] = with_uv;
+    piece_normals[k] = with_normals;
+  });
+  for (const std::string& error : piece_error) {
+    if (!error.empty()) throw input_error(path, error);
+  }
+  if (!mesh_name.empty() && !any_selected) throw no_mesh_named(path, mesh_name, names.names);
+  const bool with_uv = std::find(piece_uv.begin(), piece_uv.end(), 1) != piece_uv.end();
+  const bool with_normals = std::find(piece_normals.begin(), piece_normals.end(), 1) != piece_normals.end();
+  for (std::size_t k = 0; k < piece_count; ++k) {
+    piece_offset[k + 1].triangle_corner = piece_offset[k].triangle_corner + pieces[k].face_triangle_corners;
+  }
+  if (piece_offset[piece_count].triangle_corner > max_index_count)
+    throw input_error(path, "too large: more than 2^31 face corners");
+  return write_pieces(pieces, piece_offset, with_uv, with_normals);
 }
 
 }  // namespace tear
