@@ -7,10 +7,10 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
-#include <system_error>
 #include <limits>
 #include <memory>
 #include <string>
+#include <system_error>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -65,15 +65,14 @@ RunInputs run_inputs(const Mesh& mesh, const CutScript& script, const RunOptions
   bytes.append(reinterpret_cast<const char*>(mesh.face_nodes.data()), mesh.face_nodes.size() * sizeof(index_t));
   inputs.mesh_digest = digest_bytes(bytes);
   std::error_code error;
-  inputs.script_digest = std::filesystem::is_regular_file(script.path, error) ? digest_file(script.path)
-                                                                              : digest_bytes(script.path);
+  inputs.script_digest =
+      std::filesystem::is_regular_file(script.path, error) ? digest_file(script.path) : digest_bytes(script.path);
   // The output pattern and first frame number too: a resumed run must go on writing the same files.
   inputs.options = "tear " TEAR_VERSION ";device=" + std::string(to_string(options.device)) +
                    ";output=" + options.output_pattern + ";start-frame=" + std::to_string(options.start_frame) +
                    (options.result_options.empty() ? "" : ";" + options.result_options);
   return inputs;
 }
-
 
 /// The sink the pattern names: a USD layer (one for the run, or one per frame), else a file per frame.
 std::unique_ptr<FrameSink> make_sink(const FramePattern& pattern, const CutScript& script, const RunOptions& options) {
@@ -161,8 +160,7 @@ void check_run_inputs(const CutScript& script, const Mesh& mesh, const std::stri
   if (script.simulation) resolve_pins(*script.simulation, mesh.node_pos, mesh.node_count());
 }
 
-void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame,
-              int first_frame) {
+void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame, int first_frame) {
   check_frame_count(script, frame_count);
   if (script.simulation && !cloth.simulated()) cloth.simulate(*script.simulation);
   const CutOptions cut_options{script.snap};
@@ -204,12 +202,12 @@ void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const Fram
   }
 }
 
-RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const CutScript& script,
-                        const RunOptions& options) {
-  const Clock::time_point start = Clock::now();
-  // Everything that can be refused is refused before the first folder or file is created.
-  const FramePattern pattern(options.output_pattern);
-  const int frame_count = options.frames == 0 ? script.frames : options.frames;
+namespace {
+
+/// Refuses what a run of `frame_count` frames to `pattern` can be refused for before the first
+/// folder or file is created (the inputs themselves are checked apart).
+void check_output_options(const FramePattern& pattern, const CutScript& script, const RunOptions& options,
+                          int frame_count) {
   check_frame_count(script, frame_count);
   check_first_frame(options.start_frame, frame_count);
   pattern.check(frame_count, options.start_frame);
@@ -218,61 +216,56 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     const std::to_chars_result end = std::to_chars(text, text + sizeof text, options.meters_per_unit);
     throw Error(ErrorKind::usage, "--meters-per-unit: expected a finite number > 0, got " + std::string(text, end.ptr));
   }
-  if (!options.inputs_checked) check_run_inputs(script, mesh, mesh_path, options.device);
+}
 
+/// The frame a run starts at: 1, or with `--resume` the one after its checkpoint's, the cloth then
+/// loaded from the checkpoint (whose inputs must be `inputs`).
+int resume_point(Cloth& cloth, const CutScript& script, const RunOptions& options, const RunInputs& inputs,
+                 bool checkpoints) {
+  if (!(checkpoints && options.resume && std::filesystem::exists(options.checkpoint_path))) return 1;
+  const Checkpoint checkpoint = read_checkpoint(options.checkpoint_path);
+  const std::string why = inputs_mismatch(checkpoint.inputs, inputs);
+  if (!why.empty()) throw input_error(options.checkpoint_path, "cannot resume from this checkpoint: " + why);
+  if (script.simulation) cloth.simulate(*script.simulation);
+  cloth.load_state(checkpoint.cloth_state, options.checkpoint_path);
+  return checkpoint.frame + 1;
+}
+
+/// What a run to files sums over its frames, for its report.
+struct RunTotals {
   nlohmann::json frames = nlohmann::json::array();
   double remesh_ms = 0, simulation_ms = 0, download_ms = 0, write_wait_ms = 0;
   double min_angle = 0;  // of the rest shape, for the report
   bool min_angle_known = false;
-  RunSummary summary;
-  const std::unique_ptr<FrameSink> sink = make_sink(pattern, script, options);
-  Cloth cloth(mesh, options.device);
-  const bool checkpoints = !options.checkpoint_path.empty();
-  // A layer holding every frame is assembled at the end from this process's frames alone.
-  if (checkpoints && is_usd_path(pattern.pattern()) && !pattern.has_frame_number())
-    throw Error(ErrorKind::usage, options.output_pattern +
-                                      ": a single USD layer cannot be checkpointed and resumed; write one layer per "
-                                      "frame (a pattern with a frame number, e.g. shot.####.usda) or PLY frames");
-  const RunInputs inputs = checkpoints ? run_inputs(mesh, script, options) : RunInputs{};
-  int first_frame = 1;
-  if (checkpoints && options.resume && std::filesystem::exists(options.checkpoint_path)) {
-    const Checkpoint checkpoint = read_checkpoint(options.checkpoint_path);
-    const std::string why = inputs_mismatch(checkpoint.inputs, inputs);
-    if (!why.empty()) throw input_error(options.checkpoint_path, "cannot resume from this checkpoint: " + why);
-    if (script.simulation) cloth.simulate(*script.simulation);
-    cloth.load_state(checkpoint.cloth_state, options.checkpoint_path);
-    first_frame = checkpoint.frame + 1;
-  }
-  const double setup_ms = ms_since(start);
-  // Declared after the sink: it is gone (its threads ended, the temporary files of frames it did
-  // not rename removed) before the sink goes.
-  FrameWriter writer(*sink, FrameWriterOptions{options.writer_threads});
-  const int checkpoint_every = std::max(options.checkpoint_every, 1);
-  const FrameCallback hand_over = [&](const FrameResult& frame, const Cloth& cut_cloth) {
+};
+
+/// What a run to files does with each frame the frame loop hands over: queues it to the writer,
+/// with the checkpoint it takes, and adds it to the totals and the summary.
+struct FrameHandOver {
+  const RunOptions& options;
+  const RunInputs& inputs;
+  FrameSink& sink;
+  FrameWriter& writer;
+  int frame_count;
+  bool checkpoints;
+  int checkpoint_every;
+  RunTotals& totals;
+  RunSummary& summary;
+
+  void operator()(const FrameResult& frame, const Cloth& cut_cloth) {
     FrameResult written = frame;
     written.output_frame = options.start_frame + frame.frame - 1;
-    written.path = sink->path_of(written.output_frame);
+    written.path = sink.path_of(written.output_frame);
     // Queuing the frame's copy to the host is all this thread does of its output: the copy runs
     // beside the next frames, and the writer's thread waits for it, computes the normals (those the
     // cloth carries are not copied then), encodes the frame and writes its file.
     const bool normals = frame.simulated && cut_cloth.has_corner_normals();
     const Clock::time_point download_start = Clock::now();
     PendingMesh out = cut_cloth.mesh_later(!normals);
-    download_ms += ms_since(download_start);
-    if (!options.report_path.empty()) {
-      nlohmann::json entry = frame_report(written, cut_cloth);
-      add_tearing(entry, written);
-      // The remesher's quality is a property of the rest shape (without simulation also the shape
-      // written), which only cuts and tears change: measured again after those.
-      if (!min_angle_known || frame.cut_count > 0 || frame.tear_events > 0) {
-        min_angle = min_face_angle_deg(cut_cloth.face_nodes(), cut_cloth.node_rest());
-        min_angle_known = true;
-      }
-      if (std::isfinite(min_angle)) entry["min_angle_deg"] = min_angle;
-      frames.push_back(entry);
-    }
-    remesh_ms += frame.remesh_ms;
-    simulation_ms += frame.simulation_ms;
+    totals.download_ms += ms_since(download_start);
+    if (!options.report_path.empty()) report(written, frame, cut_cloth);
+    totals.remesh_ms += frame.remesh_ms;
+    totals.simulation_ms += frame.simulation_ms;
     summary.frames = frame.frame;
     summary.faces = cut_cloth.face_count();
     const bool stopping = options.stop && *options.stop;
@@ -283,24 +276,43 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     std::string state = checkpoint ? cut_cloth.save_state() : std::string();
     const Clock::time_point hand_over_start = Clock::now();
     writer.write(written.output_frame, std::move(out), normals,
-                 [&, written, checkpoint, state = std::move(state)]() mutable {
+                 [&options = options, &inputs = inputs, written, checkpoint, state = std::move(state)]() mutable {
                    if (options.on_frame) options.on_frame(written);
                    if (checkpoint)
                      write_checkpoint(options.checkpoint_path, Checkpoint{written.frame, inputs, std::move(state)});
                  });
-    write_wait_ms += ms_since(hand_over_start);
+    totals.write_wait_ms += ms_since(hand_over_start);
     if (stopping) {
       writer.finish();
       throw Error(ErrorKind::interrupted,
                   "stopped after frame " + std::to_string(frame.frame) + " of " + std::to_string(frame_count) +
                       (checkpoints ? "; '--resume' goes on from " + options.checkpoint_path : std::string()));
     }
-  };
+  }
+
+  /// The frame's entry in the report.
+  void report(const FrameResult& written, const FrameResult& frame, const Cloth& cut_cloth) {
+    nlohmann::json entry = frame_report(written, cut_cloth);
+    add_tearing(entry, written);
+    // The remesher's quality is a property of the rest shape (without simulation also the shape
+    // written), which only cuts and tears change: measured again after those.
+    if (!totals.min_angle_known || frame.cut_count > 0 || frame.tear_events > 0) {
+      totals.min_angle = min_face_angle_deg(cut_cloth.face_nodes(), cut_cloth.node_rest());
+      totals.min_angle_known = true;
+    }
+    if (std::isfinite(totals.min_angle)) entry["min_angle_deg"] = totals.min_angle;
+    totals.frames.push_back(entry);
+  }
+};
+
+/// Runs the frame loop, handing each frame over, then waits for the writer.
+void run_and_write(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& hand_over,
+                   int first_frame, FrameWriter& writer, RunTotals& totals) {
   try {
     run_cuts(cloth, script, frame_count, hand_over, first_frame);
     const Clock::time_point finish_start = Clock::now();
     writer.finish();
-    write_wait_ms += ms_since(finish_start);
+    totals.write_wait_ms += ms_since(finish_start);
   } catch (...) {
     // An error of the frame loop itself (a simulation that diverged) leaves the frames handed over
     // before it on disk, as writing them one after the other did. A failure of the writer (or of
@@ -311,29 +323,65 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
     }
     throw;
   }
+}
+
+void write_run_report(const std::string& mesh_path, const CutScript& script, const RunOptions& options,
+                      const RunTotals& totals, const RunSummary& summary, double setup_ms) {
+  const nlohmann::json report = {{"mesh", mesh_path},
+                                 {"script", script.path},
+                                 {"device", to_string(options.device)},
+                                 {"device_name", device_name(options.device)},
+                                 {"frames", totals.frames},
+                                 {"totals",
+                                  {{"frames", summary.frames},
+                                   {"input_ms", options.input_ms},
+                                   {"setup_ms", setup_ms},
+                                   {"remesh_ms", totals.remesh_ms},
+                                   {"simulation_ms", totals.simulation_ms},
+                                   {"download_ms", totals.download_ms},
+                                   {"write_wait_ms", totals.write_wait_ms},
+                                   {"wall_ms", summary.wall_ms}}}};
+  create_folder_of(options.report_path);
+  write_file_atomically(options.report_path, report.dump(2) + "\n");
+}
+
+}  // namespace
+
+RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const CutScript& script,
+                        const RunOptions& options) {
+  const Clock::time_point start = Clock::now();
+  // Everything that can be refused is refused before the first folder or file is created.
+  const FramePattern pattern(options.output_pattern);
+  const int frame_count = options.frames == 0 ? script.frames : options.frames;
+  check_output_options(pattern, script, options, frame_count);
+  if (!options.inputs_checked) check_run_inputs(script, mesh, mesh_path, options.device);
+
+  RunTotals totals;
+  RunSummary summary;
+  const std::unique_ptr<FrameSink> sink = make_sink(pattern, script, options);
+  Cloth cloth(mesh, options.device);
+  const bool checkpoints = !options.checkpoint_path.empty();
+  // A layer holding every frame is assembled at the end from this process's frames alone.
+  if (checkpoints && is_usd_path(pattern.pattern()) && !pattern.has_frame_number())
+    throw Error(ErrorKind::usage, options.output_pattern +
+                                      ": a single USD layer cannot be checkpointed and resumed; write one layer per "
+                                      "frame (a pattern with a frame number, e.g. shot.####.usda) or PLY frames");
+  const RunInputs inputs = checkpoints ? run_inputs(mesh, script, options) : RunInputs{};
+  const int first_frame = resume_point(cloth, script, options, inputs, checkpoints);
+  const double setup_ms = ms_since(start);
+  // Declared after the sink: it is gone (its threads ended, the temporary files of frames it did
+  // not rename removed) before the sink goes.
+  FrameWriter writer(*sink, FrameWriterOptions{options.writer_threads});
+  const int checkpoint_every = std::max(options.checkpoint_every, 1);
+  const FrameCallback hand_over =
+      FrameHandOver{options, inputs, *sink, writer, frame_count, checkpoints, checkpoint_every, totals, summary};
+  run_and_write(cloth, script, frame_count, hand_over, first_frame, writer, totals);
   const Clock::time_point sink_start = Clock::now();
   sink->finish();
-  write_wait_ms += ms_since(sink_start);
+  totals.write_wait_ms += ms_since(sink_start);
   summary.wall_ms = ms_since(start);
 
-  if (!options.report_path.empty()) {
-    const nlohmann::json report = {{"mesh", mesh_path},
-                                   {"script", script.path},
-                                   {"device", to_string(options.device)},
-                                   {"device_name", device_name(options.device)},
-                                   {"frames", frames},
-                                   {"totals",
-                                    {{"frames", summary.frames},
-                                     {"input_ms", options.input_ms},
-                                     {"setup_ms", setup_ms},
-                                     {"remesh_ms", remesh_ms},
-                                     {"simulation_ms", simulation_ms},
-                                     {"download_ms", download_ms},
-                                     {"write_wait_ms", write_wait_ms},
-                                     {"wall_ms", summary.wall_ms}}}};
-    create_folder_of(options.report_path);
-    write_file_atomically(options.report_path, report.dump(2) + "\n");
-  }
+  if (!options.report_path.empty()) write_run_report(mesh_path, script, options, totals, summary, setup_ms);
   return summary;
 }
 
