@@ -4,8 +4,8 @@
 
 #include <cstdint>
 
-#include "hd.h"
 #include "cut_geometry.h"
+#include "hd.h"
 #include "intersect_cuts.h"
 #include "split_table.h"
 
@@ -32,8 +32,8 @@ struct snap_edge_points {
   const double* half_hit_sum;
   const index_t* half_hit_count;
   double snap;
-  float* edge_point_t;               ///< [edge_count] parameter from the low node to the high node
-  std::uint8_t* edge_point;          ///< [edge_count] EdgePoint
+  float* edge_point_t;       ///< [edge_count] parameter from the low node to the high node
+  std::uint8_t* edge_point;  ///< [edge_count] EdgePoint
   TEAR_HD void operator()(index_t e) const {
     double sum = 0;
     index_t count = 0;
@@ -76,8 +76,9 @@ TEAR_HD inline bool cross_bary(const double* a0, const double* a1, const double*
 
 /// Rest positions of the 7 point slots of face f's split (N0..N2, E0..E2 at `t_local`, P at the
 /// face point).
-TEAR_HD inline void face_point_positions(const index_t* face_nodes, const float* node_rest, const float* face_point_bary,
-                                         index_t f, const double* t_local, double (*point_pos)[3]) {
+TEAR_HD inline void face_point_positions(const index_t* face_nodes, const float* node_rest,
+                                         const float* face_point_bary, index_t f, const double* t_local,
+                                         double (*point_pos)[3]) {
   for (int slot = 0; slot < face_point_slot_count; ++slot) {
     double b[3] = {0, 0, 0};
     if (slot < 3)
@@ -118,6 +119,27 @@ struct face_cut_info {
     // Where each crossing place ended up: 0..2 node k, 3..5 edge point k, -1 nowhere.
     int place[6];
     double t_local[3];
+    std::uint16_t state = edge_places(f, place, t_local);
+    face_along[f] = resolve_lines(face_pairs[f], place, state);
+
+    double bary[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
+    if (has_face_point(state)) face_point(state, t_local, bary);
+    for (int i = 0; i < 3; ++i) face_point_bary[3 * f + i] = static_cast<float>(bary[i]);
+
+    // A per-face choice on the rest shape, so it does not flip as the cloth moves.
+    int variant = 0;
+    if (table[face_split_code(state, 0)].variant_count > 1) {
+      double point_pos[face_point_slot_count][3];
+      face_point_positions(face_nodes, node_rest, face_point_bary, f, t_local, point_pos);
+      variant = best_split_variant(table, state, point_pos);
+    }
+    face_state[f] = face_split_code(state, variant);
+  }
+
+  /// Face f's crossing places after snapping (`place`: 0..2 node k, 3..5 edge point k, -1
+  /// nowhere) and its edge points' parameters along its local edges (`t_local`); returns the
+  /// state's edge-point bits.
+  TEAR_HD std::uint16_t edge_places(index_t f, int (&place)[6], double (&t_local)[3]) const {
     std::uint16_t state = 0;
     for (int k = 0; k < 3; ++k) {
       const index_t e = face_edges[3 * f + k];
@@ -135,8 +157,14 @@ struct face_cut_info {
       }
       place[3 + k] = k;
     }
+    return state;
+  }
+
+  /// The pairs of crossing places a cut joins inside the face (`pairs`, location_pair_bit), as
+  /// lines between where they ended up: the EN and EE line bits added to `state`; returns the
+  /// along-edge bits (`face_along`).
+  TEAR_HD static std::uint8_t resolve_lines(std::uint16_t pairs, const int (&place)[6], std::uint16_t& state) {
     std::uint8_t along = 0;
-    const std::uint16_t pairs = face_pairs[f];
     for (int a = 0; a < 6; ++a)
       for (int b = a + 1; b < 6; ++b) {
         if (!(pairs & (1u << location_pair_bit(a, b)))) continue;
@@ -160,47 +188,37 @@ struct face_cut_info {
           along |= std::uint8_t(3u << (2 * k));
         }
       }
-    face_along[f] = along;
+    return along;
+  }
 
-    double bary[3] = {1.0 / 3, 1.0 / 3, 1.0 / 3};
-    if (has_face_point(state)) {
-      // The average of the crossings of the face's lines (paper §2.1).
-      double sum[3] = {0, 0, 0}, corner[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, e_b[3][3];
-      for (int k = 0; k < 3; ++k) edge_point_bary(k, t_local[k], e_b[k]);
-      int found = 0;
-      double x[3];
-      for (int k = 0; k < 3; ++k) {
-        if (!(state & (1u << (3 + k)))) continue;
-        if ((state & (1u << (6 + k))) && cross_bary(e_b[k], corner[k], e_b[(k + 1) % 3], e_b[(k + 2) % 3], x)) {
+  /// The face point of a state that has one, in barycentric coordinates: the average of the
+  /// crossings of the face's lines (paper §2.1), kept at least face_point_min_bary inside.
+  TEAR_HD static void face_point(std::uint16_t state, const double (&t_local)[3], double (&bary)[3]) {
+    double sum[3] = {0, 0, 0}, corner[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, e_b[3][3];
+    for (int k = 0; k < 3; ++k) edge_point_bary(k, t_local[k], e_b[k]);
+    int found = 0;
+    double x[3];
+    for (int k = 0; k < 3; ++k) {
+      if (!(state & (1u << (3 + k)))) continue;
+      if ((state & (1u << (6 + k))) && cross_bary(e_b[k], corner[k], e_b[(k + 1) % 3], e_b[(k + 2) % 3], x)) {
+        for (int i = 0; i < 3; ++i) sum[i] += x[i];
+        ++found;
+      }
+      for (int j = k + 1; j < 3; ++j)
+        if ((state & (1u << (3 + j))) && cross_bary(e_b[k], corner[k], e_b[j], corner[j], x)) {
           for (int i = 0; i < 3; ++i) sum[i] += x[i];
           ++found;
         }
-        for (int j = k + 1; j < 3; ++j)
-          if ((state & (1u << (3 + j))) && cross_bary(e_b[k], corner[k], e_b[j], corner[j], x)) {
-            for (int i = 0; i < 3; ++i) sum[i] += x[i];
-            ++found;
-          }
-      }
-      if (found)
-        for (int i = 0; i < 3; ++i) bary[i] = sum[i] / found;
-      // Keep the point well inside the face.
-      double total = 0;
-      for (int i = 0; i < 3; ++i) {
-        bary[i] = bary[i] < face_point_min_bary ? face_point_min_bary : bary[i];
-        total += bary[i];
-      }
-      for (int i = 0; i < 3; ++i) bary[i] /= total;
     }
-    for (int i = 0; i < 3; ++i) face_point_bary[3 * f + i] = static_cast<float>(bary[i]);
-
-    // A per-face choice on the rest shape, so it does not flip as the cloth moves.
-    int variant = 0;
-    if (table[face_split_code(state, 0)].variant_count > 1) {
-      double point_pos[face_point_slot_count][3];
-      face_point_positions(face_nodes, node_rest, face_point_bary, f, t_local, point_pos);
-      variant = best_split_variant(table, state, point_pos);
+    if (found)
+      for (int i = 0; i < 3; ++i) bary[i] = sum[i] / found;
+    // Keep the point well inside the face.
+    double total = 0;
+    for (int i = 0; i < 3; ++i) {
+      bary[i] = bary[i] < face_point_min_bary ? face_point_min_bary : bary[i];
+      total += bary[i];
     }
-    face_state[f] = face_split_code(state, variant);
+    for (int i = 0; i < 3; ++i) bary[i] /= total;
   }
 };
 

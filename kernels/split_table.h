@@ -126,9 +126,9 @@ static_assert(face_split_code(face_cut_state_count - 1, max_split_variants - 1) 
               "split codes index the table");
 
 /// The split of every face cut state and variant, at face_split_code(state, variant)
-/// (split_table_size entries, host memory; built at compile time). The remesher copies it to the
-/// device once.
-const SplitCase* split_table();
+/// (split_table_size entries, host memory; built at compile time, split_table_rule.h). The
+/// remesher copies it to the device once.
+inline const SplitCase* split_table();
 
 /// The split a face takes, from its split code.
 TEAR_HD inline const SplitCase& split_case(const SplitCase* table, unsigned code) { return table[code]; }
@@ -182,6 +182,8 @@ TEAR_HD inline int best_split_variant(const SplitCase* table, unsigned state, co
 }
 
 /// The bits of a face cut state by name, e.g. "E0 E1 EN0 EE2" ("none" for 0), for messages.
-std::string to_string_state(int state);
+inline std::string to_string_state(int state);
 
 }  // namespace tear::kernels
+
+#include "split_table_rule.h"  // defines split_table() and to_string_state()

@@ -1,5 +1,5 @@
 // tear: tags naming the backend systems, without pulling in Thrust; host code declares the
-// per-system entry points with them and dispatches on `Device` (dispatch.h).
+// per-system entry points with them and dispatches on `Device` (`dispatch`).
 #pragma once
 
 #include "tear/device.h"

@@ -1,6 +1,6 @@
 #include "tear/topology.h"
 
-#include "backend/entry_points.h"
+#include "topology/entry_points.h"
 
 namespace tear {
 

@@ -2,7 +2,7 @@
 
 #include <string>
 
-#include "backend/entry_points.h"
+#include "topology/entry_points.h"
 
 namespace tear {
 
@@ -30,7 +30,8 @@ MeshReport check_indices(const Mesh& mesh, Device device) {
 }
 
 MeshReport validate_mesh(const Mesh& mesh, const Topology& topology, Device device) {
-  return backend::dispatch(device, [&](auto system) { return backend::validate_mesh_on<decltype(system)>(mesh, topology); });
+  return backend::dispatch(device,
+                           [&](auto system) { return backend::validate_mesh_on<decltype(system)>(mesh, topology); });
 }
 
 MeshReport validate_mesh(const Mesh& mesh, Device device) {

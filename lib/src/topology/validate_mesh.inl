@@ -4,9 +4,9 @@
 
 #include "backend/backend.h"
 #include "check_mesh.h"
-#include "backend/entry_points.h"
-#include "topology/device_topology.h"
 #include "tear/validate_mesh.h"
+#include "topology/device_topology.h"
+#include "topology/entry_points.h"
 
 namespace tear::backend {
 
@@ -14,14 +14,16 @@ namespace {
 template <class System, class Check>
 std::int64_t count_bad(index_t count, Check check) {
   thrust::counting_iterator<index_t> zero(0);
-  return thrust::transform_reduce(Traits<System>::policy(), zero, zero + count, check, std::int64_t(0), thrust::plus<std::int64_t>());
+  return thrust::transform_reduce(Traits<System>::policy(), zero, zero + count, check, std::int64_t(0),
+                                  thrust::plus<std::int64_t>());
 }
 
 /// The index and coordinate checks of a mesh already on the backend.
 template <class System>
 void check_indices_into(MeshReport& report, const vector<System, index_t>& face_nodes,
                         const vector<System, float>& node_pos, index_t face_count, index_t node_count) {
-  report.indices_out_of_range = count_bad<System>(face_count, kernels::face_index_out_of_range{raw<index_t>(face_nodes), node_count});
+  report.indices_out_of_range =
+      count_bad<System>(face_count, kernels::face_index_out_of_range{raw<index_t>(face_nodes), node_count});
   report.non_finite_nodes = count_bad<System>(node_count, kernels::node_non_finite{raw<float>(node_pos)});
 }
 
@@ -33,18 +35,24 @@ void check_topology_into(MeshReport& report, const vector<System, index_t>& face
                          const vector<System, index_t>& edge_faces, const vector<System, index_t>& edge_face_count,
                          const vector<System, index_t>& node_face_offset, const vector<System, index_t>& node_faces) {
   if (!report.non_finite_nodes) {
-    report.degenerate_faces = count_bad<System>(face_count, kernels::face_degenerate{raw<float>(node_pos), raw<index_t>(face_nodes), degenerate_area_ratio});
+    report.degenerate_faces = count_bad<System>(
+        face_count, kernels::face_degenerate{raw<float>(node_pos), raw<index_t>(face_nodes), degenerate_area_ratio});
     // Degenerate at the thin ratio, less those degenerate at the degenerate ratio.
-    report.thin_faces = count_bad<System>(face_count, kernels::face_degenerate{raw<float>(node_pos), raw<index_t>(face_nodes), thin_area_ratio}) -
-                        report.degenerate_faces;
+    report.thin_faces =
+        count_bad<System>(face_count,
+                          kernels::face_degenerate{raw<float>(node_pos), raw<index_t>(face_nodes), thin_area_ratio}) -
+        report.degenerate_faces;
   }
   report.non_manifold_edges = count_bad<System>(edge_count, kernels::edge_non_manifold{raw<index_t>(edge_face_count)});
   report.inconsistent_edges = count_bad<System>(
-      edge_count, kernels::edge_inconsistent{raw<index_t>(face_nodes), raw<index_t>(face_edges), raw<index_t>(edge_faces), raw<index_t>(edge_face_count)});
+      edge_count, kernels::edge_inconsistent{raw<index_t>(face_nodes), raw<index_t>(face_edges),
+                                             raw<index_t>(edge_faces), raw<index_t>(edge_face_count)});
   report.duplicate_faces = count_bad<System>(
-      face_count, kernels::face_duplicate{raw<index_t>(face_nodes), raw<index_t>(node_face_offset), raw<index_t>(node_faces)});
+      face_count,
+      kernels::face_duplicate{raw<index_t>(face_nodes), raw<index_t>(node_face_offset), raw<index_t>(node_faces)});
   report.non_manifold_nodes = count_bad<System>(
-      node_count, kernels::node_non_manifold{raw<index_t>(face_nodes), raw<index_t>(face_edges), raw<index_t>(edge_faces), raw<index_t>(edge_face_count),
+      node_count, kernels::node_non_manifold{raw<index_t>(face_nodes), raw<index_t>(face_edges),
+                                             raw<index_t>(edge_faces), raw<index_t>(edge_face_count),
                                              raw<index_t>(node_face_offset), raw<index_t>(node_faces)});
 }
 }  // namespace
@@ -85,13 +93,13 @@ MeshReport validate_mesh_on(const Mesh& mesh) {
   if (report.indices_out_of_range) return report;
   DeviceTopology<System> t;
   build_device_topology(t, face_nodes, mesh.node_count());
-  check_topology_into<System>(report, face_nodes, node_pos, mesh.face_count(), t.node_count, t.edge_count,
-                              t.face_edges, t.edge_faces, t.edge_face_count, t.node_face_offset, t.node_faces);
+  check_topology_into<System>(report, face_nodes, node_pos, mesh.face_count(), t.node_count, t.edge_count, t.face_edges,
+                              t.edge_faces, t.edge_face_count, t.node_face_offset, t.node_faces);
   return report;
 }
 
-#define TEAR_INSTANTIATE(S)                                \
-  template MeshReport check_indices_on<S>(const Mesh&); \
+#define TEAR_INSTANTIATE(S)                                              \
+  template MeshReport check_indices_on<S>(const Mesh&);                  \
   template MeshReport validate_mesh_on<S>(const Mesh&, const Topology&); \
   template MeshReport validate_mesh_on<S>(const Mesh&);
 TEAR_FOR_EACH_SYSTEM(TEAR_INSTANTIATE)

@@ -1,4 +1,5 @@
-// tear: the per-system entry points that host code dispatches to (see systems.h).
+// tear: the per-system entry points of the topology stages that host code dispatches to (see
+// backend/systems.h).
 #pragma once
 
 #include "backend/systems.h"

@@ -1,12 +1,17 @@
-// tear: the face split table (paper §2.3, §2.4) with its variants, generated at compile time from
-// the split rule of docs/split-table.md. A logic error in the rule is a `throw` reached during constant evaluation,
-// so it stops the build instead of producing a wrong table.
+// tear kernels: the face split table (paper §2.3, §2.4) with its variants, generated at compile
+// time from the split rule of docs/split-table.md. A logic error in the rule is a `throw` reached
+// during constant evaluation, so it stops the build instead of producing a wrong table.
+// Included at the end of split_table.h, which declares what it defines.
+#pragma once
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+
 #include "split_table.h"
 
-#include <stdexcept>
-
 namespace tear::kernels {
-namespace {
+namespace split_rule {
 
 constexpr std::uint8_t node_code(int k) { return point_code(PointKind::node, k % 3); }
 constexpr std::uint8_t edge_code(int k) { return point_code(PointKind::edge, k % 3); }
@@ -349,13 +354,16 @@ constexpr SplitTable make_split_table() {
   return table;
 }
 
-constexpr SplitTable the_split_table = make_split_table();
+}  // namespace split_rule
 
-}  // namespace
+/// The table, evaluated once per translation unit at compile time; one copy per binary (an inline
+/// function's static).
+inline const SplitCase* split_table() {
+  static constexpr split_rule::SplitTable table = split_rule::make_split_table();
+  return table.cases;
+}
 
-const SplitCase* split_table() { return the_split_table.cases; }
-
-std::string to_string_state(int state) {
+inline std::string to_string_state(int state) {
   if (state < 0 || state >= face_cut_state_count) return "invalid state " + std::to_string(state);
   if (state == 0) return "none";
   static const char* const names[9] = {"E0", "E1", "E2", "EN0", "EN1", "EN2", "EE0", "EE1", "EE2"};
