@@ -40,13 +40,14 @@ Mesh make_demo_sheet(DemoResolution resolution);
 CutScript demo_script();
 
 /// The scenes of `tear demo`: the paper's (the default), a notched sheet pulled apart by keyed pins
-/// until it tears in two, and a horizontal sheet held at its edges torn open by a rising sphere.
-enum class DemoScene { paper, pull, punch };
+/// until it tears in two, a horizontal sheet held at its edges torn open by a rising sphere, and a
+/// woven square with a UV seam pulled along a diagonal (it tears along its weft and opens its seam).
+enum class DemoScene { paper, pull, punch, grain };
 
-/// "paper", "pull" or "punch".
+/// "paper", "pull", "punch" or "grain".
 const char* to_string(DemoScene scene);
 
-/// Parses "paper", "pull" or "punch"; anything else is a usage `Error`.
+/// Parses "paper", "pull", "punch" or "grain"; anything else is a usage `Error`.
 DemoScene parse_demo_scene(const std::string& text);
 
 /// The stretch limit (`simulation.tearing.stretch`) of the pull and punch scenes.
@@ -59,7 +60,14 @@ inline constexpr double demo_punch_radius = 0.15;
 inline constexpr double demo_punch_start_y = -0.2;
 inline constexpr double demo_punch_rise = 0.8;
 
-/// The sheet of `scene` at `resolution`: `make_demo_sheet`'s for the paper and pull scenes; for
+/// The grain scene: the seam's place (the faces whose centroid lies right of it have their UVs
+/// moved by half a tile), the weave's weft strength and the seam's strength.
+inline constexpr double demo_grain_seam_x = 0.7;
+inline constexpr double demo_grain_weft_strength = 0.85;
+inline constexpr double demo_grain_seam_strength = 0.85;
+
+/// The sheet of `scene` at `resolution`: `make_demo_sheet`'s for the paper and pull scenes (grain:
+/// with its UV seam at `demo_grain_seam_x`); for
 /// punch the same sheet turned horizontal, [0, 1] x {0} x [0, 1] with its normal along +y
 /// (a node at (x, y, 0) moves to (x, 0, 1 - y)).
 Mesh make_demo_mesh(DemoScene scene, DemoResolution resolution);
@@ -71,6 +79,10 @@ Mesh make_demo_mesh(DemoScene scene, DemoResolution resolution);
 /// punch (named "(demo scene: punch)"): no cuts, the four edges of the horizontal sheet pinned,
 /// gravity along -y, a sphere of `demo_punch_radius` under the sheet's middle rising by
 /// `demo_punch_rise` linearly over the frames, tearing at `demo_tear_stretch`.
+/// grain (named "(demo scene: grain)"): no cuts, no gravity, the strips x <= 0.04 and x >= 0.96
+/// pinned and moved apart along the diagonal (-1, -1) and (1, 1) by `demo_pull_distance` each,
+/// tearing at `demo_tear_stretch` with a weave (warp along v, weft along u, weft strength
+/// `demo_grain_weft_strength`) and seams at `demo_grain_seam_strength`.
 CutScript demo_script(DemoScene scene);
 
 }  // namespace tear

@@ -4,6 +4,9 @@
 #pragma once
 
 #include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
 #include <memory>
 #include <optional>
 
@@ -121,8 +124,18 @@ class StepJob {
       m.check_end.record();
       return false;
     }
+    const auto t0 = std::chrono::steady_clock::now();
     if (!field_) field_.emplace(crack_mesh(cloth), options_.tearing);
-    const CrackPlan plan = field_->plan(to_host<float>(cloth.node_pos));
+    const auto t1 = std::chrono::steady_clock::now();
+    const std::vector<float> positions = to_host<float>(cloth.node_pos);
+    const auto t2 = std::chrono::steady_clock::now();
+    const CrackPlan plan = field_->plan(positions);
+    const auto t3 = std::chrono::steady_clock::now();
+    if (std::getenv("TEAR_DEBUG_CRACK_TIMES"))
+      std::fprintf(stderr, "check: field %.3f ms, positions %.3f ms, plan %.3f ms\n",
+                   std::chrono::duration<double, std::milli>(t1 - t0).count(),
+                   std::chrono::duration<double, std::milli>(t2 - t1).count(),
+                   std::chrono::duration<double, std::milli>(t3 - t2).count());
     m.check_end.record();
     if (plan.cuts.empty()) return false;
     CutOptions cut_options;

@@ -127,6 +127,7 @@ std::vector<float> face_strength_field(const std::vector<float>& node_rest, cons
 struct CrackField::Tip {
   index_t node;
   Vec3 at, normal, forward;
+  Vec3 course;  ///< the point of the crack's fitted line nearest the tip (where its snapped tip should be)
 };
 
 CrackField::CrackField(CrackMesh mesh, const TearingOptions& options) : m_(std::move(mesh)), options_(options) {
@@ -149,8 +150,27 @@ CrackField::CrackField(CrackMesh mesh, const TearingOptions& options) : m_(std::
       node_angle_[m_.face_nodes[3 * f + k]] += std::acos(std::max(-1.0, std::min(1.0, c)));
     }
   }
+  // The smoothing disc spans a face at least, so a coarse mesh still averages a neighbourhood.
+  double edges = 0;
+  for (index_t e = 0; e < m_.topo.edge_count; ++e)
+    edges += norm(sub(rest(m_.topo.edge_nodes[2 * e]), rest(m_.topo.edge_nodes[2 * e + 1])));
+  radius_ = std::max(options_.radius, m_.topo.edge_count > 0 ? 0.5 * edges / m_.topo.edge_count : 0.0);
   build_grid();
   build_border();
+  // The pieces (faces joined through nodes), for keeping a loaded crack's piece to itself.
+  std::vector<index_t> parent(nodes);
+  for (index_t n = 0; n < nodes; ++n) parent[n] = n;
+  const auto find = [&](index_t n) {
+    while (parent[n] != n) n = parent[n] = parent[parent[n]];
+    return n;
+  };
+  for (index_t f = 0; f < faces; ++f)
+    for (int k = 1; k < 3; ++k) {
+      const index_t a = find(m_.face_nodes[3 * f]), b = find(m_.face_nodes[3 * f + k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  node_piece_.resize(nodes);
+  for (index_t n = 0; n < nodes; ++n) node_piece_[n] = find(n);
 }
 
 CrackField::Vec3 CrackField::rest(index_t n) const {
@@ -158,7 +178,7 @@ CrackField::Vec3 CrackField::rest(index_t n) const {
 }
 
 void CrackField::build_grid() {
-  cell_ = options_.radius;
+  cell_ = radius_;
   const index_t faces = m_.topo.face_count;
   std::vector<std::pair<std::int64_t, index_t>> keyed(faces);
   for (index_t f = 0; f < faces; ++f) {
@@ -201,6 +221,7 @@ void CrackField::build_border() {
   const index_t nodes = m_.topo.node_count, faces = m_.topo.face_count;
   border_next_.assign(nodes, -1);
   border_prev_.assign(nodes, -1);
+  border_torn_.assign(nodes, 0);
   for (index_t f = 0; f < faces; ++f)
     for (int k = 0; k < 3; ++k) {
       const index_t e = m_.topo.face_edges[3 * f + k];
@@ -208,6 +229,7 @@ void CrackField::build_border() {
       const index_t a = m_.face_nodes[3 * f + (k + 1) % 3], b = m_.face_nodes[3 * f + (k + 2) % 3];
       border_next_[a] = b;
       border_prev_[b] = a;
+      border_torn_[a] = m_.corner_torn.empty() ? 1 : m_.corner_torn[3 * f + (k + 1) % 3];
       border_edges_.push_back(e);
     }
   std::sort(border_edges_.begin(), border_edges_.end());
@@ -266,7 +288,7 @@ std::vector<double> CrackField::face_tensors(const std::vector<float>& node_pos)
 }
 
 void CrackField::smoothed(const Vec3& p, const std::vector<double>& T, double* S, double* strength) const {
-  double r = options_.radius;
+  double r = radius_;
   for (int attempt = 0; attempt < 4; ++attempt, r *= 2) {
     double area = 0, s = 0, sum[6] = {0, 0, 0, 0, 0, 0};
     faces_near(p, r, [&](index_t f) {
@@ -393,12 +415,19 @@ bool CrackField::advance(const Tip& tip, const std::vector<double>& T, std::vect
     const auto& w = options_.weave.warp;
     const Vec3 warp = unit(in_plane(thread_direction(f, w[0], w[1]), tip.normal));
     const Vec3 weft = unit(in_plane(thread_direction(f, -w[1], w[0]), tip.normal));
-    consider(warp, quad(S, cross(tip.normal, warp)), limit);
-    consider(weft, quad(S, cross(tip.normal, weft)), limit * options_.weave.weft_strength);
+    // A crack keeps to the thread it runs along unless the other one opens by a tenth more:
+    // woven cloth tears along one thread, not in a staircase of both.
+    const double keep_warp = std::abs(dot(warp, tip.forward)) >= std::abs(dot(weft, tip.forward)) ? 1.1 : 1.0;
+    consider(warp, keep_warp * keep_warp * quad(S, cross(tip.normal, warp)), limit);
+    consider(weft, (2.21 - keep_warp * keep_warp) * quad(S, cross(tip.normal, weft)), limit * options_.weave.weft_strength);
   } else {
     Vec3 r;
     const double lambda = principal(S, tip.normal, r);
-    consider(unit(cross(tip.normal, r)), lambda, limit);
+    // Across the principal direction, turned halfway to the crack's own course: a crack
+    // keeps its course against the noise of a coarse mesh and still turns where the stress does.
+    Vec3 across = unit(cross(tip.normal, r));
+    if (dot(across, tip.forward) < 0) across = scale(across, -1);
+    consider(unit(add(across, tip.forward)), lambda, limit);
   }
   // Along a seam edge that leaves the tip forwards.
   for (index_t i = m_.topo.node_face_offset[tip.node]; i < m_.topo.node_face_offset[tip.node + 1]; ++i) {
@@ -428,7 +457,7 @@ bool CrackField::advance(const Tip& tip, const std::vector<double>& T, std::vect
   }
   const double step = std::max(options_.step_m(), 1.5 * longest);
   const bool on_seam = !seam_path.empty() && dot(unit(sub(seam_path[1], seam_path[0])), d) > 0.999999;
-  const Vec3 q = on_seam ? seam_path[1] : add(tip.at, scale(d, step));
+  const Vec3 q = on_seam ? seam_path[1] : add(tip.course, scale(d, step));
   // Within `radius` of another crack or the border: join it the shortest way, unless that cuts off
   // a piece under `min_piece`.
   Vec3 b;
@@ -450,25 +479,43 @@ bool CrackField::advance(const Tip& tip, const std::vector<double>& T, std::vect
 }
 
 bool CrackField::start(const std::vector<double>& T, const std::vector<double>& stretch,
-                       std::vector<Vec3>& path) const {
+                       const std::vector<index_t>& loaded, std::vector<Vec3>& path) const {
+  const auto is_loaded = [&](index_t node) {
+    return std::binary_search(loaded.begin(), loaded.end(), node_piece_[node]);
+  };
   const index_t faces = m_.topo.face_count;
   const double start_limit = options_.start_stretch();
   std::vector<std::pair<double, index_t>> candidates;
   for (index_t f = 0; f < faces; ++f) {
     const double s = m_.face_strength.empty() ? 1.0 : m_.face_strength[f];
-    if (stretch[f] > start_limit * s) candidates.push_back({-stretch[f] / s, f});
+    if (stretch[f] > start_limit * s && !is_loaded(m_.face_nodes[3 * f])) candidates.push_back({-stretch[f] / s, f});
   }
-  if (candidates.empty()) return false;
+  // The most stretched face of each grid cell (a disc's size) is a candidate: every stretched
+  // region gets a say, not only the sharpest corners of a jagged border.
   std::sort(candidates.begin(), candidates.end());
-  if (candidates.size() > 64) candidates.resize(64);
-  // Away from tips and from the cracks made so far.
+  {
+    std::vector<std::int64_t> seen;
+    std::vector<std::pair<double, index_t>> kept;
+    for (const auto& c : candidates) {
+      const Vec3& p = face_centroid_[c.second];
+      std::int64_t key = 0;
+      for (int a = 0; a < 3; ++a) key = key * 2097152 + (static_cast<std::int64_t>(std::floor(p[a] / cell_)) & 2097151);
+      const auto at = std::lower_bound(seen.begin(), seen.end(), key);
+      if (at != seen.end() && *at == key) continue;
+      seen.insert(at, key);
+      kept.push_back(c);
+    }
+    candidates.swap(kept);
+  }
+  // Away from the cracks made so far, and well away from their tips: the cloth ahead of a tip is
+  // the tip's to tear, even while it waits for the stress to build up again after a step.
   const auto near_crack = [&](const Vec3& p) {
     for (index_t t : tips_)
-      if (norm(sub(rest(t), p)) < 2 * options_.radius) return true;
+      if (norm(sub(rest(t), p)) < 4 * options_.radius) return true;
     for (index_t e : border_edges_) {
       const index_t f = m_.topo.edge_faces[2 * e];
       const index_t k = m_.topo.face_edges[3 * f] == e ? 0 : m_.topo.face_edges[3 * f + 1] == e ? 1 : 2;
-      if (!m_.corner_torn[3 * f + (k + 1) % 3]) continue;
+      if (!m_.corner_torn.empty() && !m_.corner_torn[3 * f + (k + 1) % 3]) continue;
       const Vec3 A = rest(m_.topo.edge_nodes[2 * e]), B = rest(m_.topo.edge_nodes[2 * e + 1]);
       if (std::min(norm(sub(A, p)), norm(sub(B, p))) < options_.radius) return true;
     }
@@ -497,7 +544,7 @@ bool CrackField::start(const std::vector<double>& T, const std::vector<double>& 
     if (!edge_seam_[e]) continue;
     for (int j = 0; j < 2; ++j) {
       const index_t n = m_.topo.edge_nodes[2 * e + j], other = m_.topo.edge_nodes[2 * e + 1 - j];
-      if (border_next_[n] < 0 || border_next_[other] >= 0) continue;  // from the border inwards
+      if (border_next_[n] < 0 || border_next_[other] >= 0 || is_loaded(n)) continue;  // from the border inwards
       const Vec3 p = rest(n);
       if (near_crack(p)) continue;
       const index_t f = m_.topo.edge_faces[2 * e];
@@ -547,7 +594,7 @@ CrackPlan CrackField::plan(const std::vector<float>& node_pos) const {
   CrackPlan plan;
   const std::vector<double> T = face_tensors(node_pos);
   std::vector<std::vector<Vec3>> paths;
-  bool near_critical = false;  // a tip free to run is at or near its limit
+  std::vector<index_t> loaded;  // pieces with a tip free to run that bears most of its limit
   for (index_t n : tips_) {
     if (static_cast<int>(paths.size()) >= options_.max_faces_per_step) break;
     Tip tip{n, rest(n), {0, 0, 0}, {0, 0, 0}};
@@ -557,14 +604,48 @@ CrackPlan CrackField::plan(const std::vector<float>& node_pos) const {
       normal = add(normal, scale(face_normal_[f], face_area_[f]));
     }
     tip.normal = unit(normal);
-    const Vec3 back = add(sub(rest(border_prev_[n]), tip.at), sub(rest(border_next_[n]), tip.at));
+    // The crack's course: the line fitted through its slit over four radii back along both flanks,
+    // not its last edge. Snapping moves each tip off the line by a fraction of an edge; aiming the
+    // next step from the line keeps those offsets from adding up.
+    std::vector<Vec3> slit{tip.at};
+    Vec3 back{0, 0, 0};
+    for (const auto* walk : {&border_prev_, &border_next_}) {
+      index_t m = n;
+      double walked = 0;
+      for (index_t i = 0; i < m_.topo.node_count && walked < 4 * radius_; ++i) {
+        const index_t next = (*walk)[m];
+        if (next < 0 || next == n) break;
+        // Along the slit only: the cloth's own border beyond it is not the crack's course.
+        if (!border_torn_[walk == &border_next_ ? m : next]) break;
+        const bool near = walked < radius_;
+        walked += norm(sub(rest(next), rest(m)));
+        m = next;
+        slit.push_back(rest(m));
+        if (near) back = add(back, unit(sub(rest(m), tip.at)));
+      }
+    }
+    Vec3 centre{0, 0, 0};
+    for (const Vec3& p : slit) centre = add(centre, scale(p, 1.0 / slit.size()));
+    const Vec3 b1 = any_tangent(tip.normal), b2 = cross(tip.normal, b1);
+    double c11 = 0, c12 = 0, c22 = 0;
+    for (const Vec3& p : slit) {
+      const Vec3 q = sub(p, centre);
+      c11 += dot(q, b1) * dot(q, b1), c12 += dot(q, b1) * dot(q, b2), c22 += dot(q, b2) * dot(q, b2);
+    }
+    const double half = 0.5 * (c11 - c22), lambda = 0.5 * (c11 + c22) + std::sqrt(half * half + c12 * c12);
+    Vec3 line = std::abs(lambda - c22) + std::abs(c12) > 1e-300 ? unit(add(scale(b1, lambda - c22), scale(b2, c12)))
+                                                                 : unit(in_plane(scale(back, -1), tip.normal));
+    if (dot(line, back) > 0) line = scale(line, -1);
+    tip.course = add(centre, scale(line, dot(sub(tip.at, centre), line)));
+    if (norm(sub(tip.course, tip.at)) > 0.5 * radius_) tip.course = tip.at;  // a kinked slit: no line
+    back = scale(line, -1);
     tip.forward = unit(scale(in_plane(back, tip.normal), -1));
     if (norm(tip.forward) == 0) continue;
     std::vector<Vec3> path;
     bool joined = false;
     double ratio = 0;
     const bool moves = advance(tip, T, path, joined, ratio);
-    near_critical = near_critical || ratio > 0.9;
+    if (ratio > 0.6) loaded.push_back(node_piece_[n]);
     if (!moves) continue;
     // Two cracks of one substep that come near each other could cut off what neither would alone:
     // the later waits for the next substep, when it sees the first as a crack.
@@ -573,16 +654,18 @@ CrackPlan CrackField::plan(const std::vector<float>& node_pos) const {
       clear = clear && segment_distance(path.front(), path.back(), other.front(), other.back()) >= options_.radius;
     if (clear) paths.push_back(std::move(path));
   }
-  if (!near_critical) {
-    // A new crack only while no tip is about to run: a running crack takes the load off the cloth
-    // ahead of it, and a second crack started there would cut a sliver between the two.
+  std::sort(loaded.begin(), loaded.end());
+  {
+    // A new crack only in a piece whose cracks bear little load: a loaded crack runs through its
+    // piece and takes the load off it; a second crack there would break it twice, or cut a sliver
+    // between the two.
     std::vector<double> stretch(m_.topo.face_count);
     for (index_t f = 0; f < m_.topo.face_count; ++f) {
       Vec3 r;
       stretch[f] = std::sqrt(std::max(principal(&T[6 * std::size_t(f)], face_normal_[f], r), 0.0));
     }
     std::vector<Vec3> path;
-    if (start(T, stretch, path)) paths.push_back(std::move(path));
+    if (paths.empty() && start(T, stretch, loaded, path)) paths.push_back(std::move(path));
   }
   for (const auto& path : paths) {
     // A straight rest-space cut in the plane of its start, projected along that plane's normal.

@@ -35,7 +35,8 @@ struct CrackMesh {
   std::vector<index_t> face_nodes;    ///< [face_count * 3]
   std::vector<float> corner_uv;       ///< [face_count * 6] or empty
   std::vector<float> face_strength;   ///< [face_count] or empty (1)
-  std::vector<std::uint8_t> corner_torn;  ///< [face_count * 3] the edge from corner c is a cut or tear
+  /// [face_count * 3] the edge from corner c is a cut or tear; empty: every border edge counts as one
+  std::vector<std::uint8_t> corner_torn;
   Topology topo;
 };
 
@@ -75,7 +76,9 @@ class CrackField {
   /// limit (0 when it is held back by `min_piece`).
   bool advance(const Tip& tip, const std::vector<double>& tensors, std::vector<Vec3>& path, bool& joined,
                double& ratio) const;
-  bool start(const std::vector<double>& tensors, const std::vector<double>& stretch, std::vector<Vec3>& path) const;
+  /// The path of a new crack, if one starts: not in the pieces `loaded` (sorted) whose tips bear load.
+  bool start(const std::vector<double>& tensors, const std::vector<double>& stretch,
+             const std::vector<index_t>& loaded, std::vector<Vec3>& path) const;
   /// The nearest point of a border edge not within `exclude_walk` of node `from` along the border,
   /// ahead of `p` along `d` (or anywhere with `d` null), within `reach`; false when none.
   bool nearest_border(const Vec3& p, const Vec3* d, double reach, index_t from, Vec3& point, index_t& edge) const;
@@ -89,13 +92,16 @@ class CrackField {
   std::vector<Vec3> face_centroid_, face_normal_;
   std::vector<double> face_area_, node_angle_;
   std::vector<index_t> border_next_, border_prev_;  // [node_count] along the border, or -1
+  std::vector<std::uint8_t> border_torn_;           // [node_count] the border edge to border_next_ is a cut or tear
   std::vector<index_t> border_edges_;
   std::vector<std::uint8_t> edge_seam_, node_near_tip_;
   std::vector<index_t> tips_;
+  std::vector<index_t> node_piece_;  // [node_count] the piece's lowest node
   // Faces by grid cell of side `radius` over their rest centroids: sorted cell keys and faces.
   std::vector<std::int64_t> cell_key_;
   std::vector<index_t> cell_face_;
   double cell_ = 1;
+  double radius_ = 1;  // the smoothing radius: `radius`, or two mean edges on a coarser mesh
   double total_area_ = 0;
 };
 

@@ -1,3 +1,4 @@
+#include <cmath>
 #include "tear/demo_scene.h"
 
 #include <array>
@@ -84,18 +85,31 @@ const char* to_string(DemoScene scene) {
       return "pull";
     case DemoScene::punch:
       return "punch";
+    case DemoScene::grain:
+      return "grain";
   }
   return "?";
 }
 
 DemoScene parse_demo_scene(const std::string& text) {
-  for (DemoScene s : {DemoScene::paper, DemoScene::pull, DemoScene::punch})
+  for (DemoScene s : {DemoScene::paper, DemoScene::pull, DemoScene::punch, DemoScene::grain})
     if (text == to_string(s)) return s;
-  throw Error(ErrorKind::usage, "--scene: expected paper, pull or punch, got '" + text + "'");
+  throw Error(ErrorKind::usage, "--scene: expected paper, pull, punch or grain, got '" + text + "'");
 }
 
 Mesh make_demo_mesh(DemoScene scene, DemoResolution resolution) {
   Mesh sheet = make_demo_sheet(resolution);
+  if (scene == DemoScene::grain) {
+    // A seam as a garment's: the UVs of the faces right of it moved by half a tile, so the faces
+    // either side of it give its nodes different UVs.
+    for (index_t f = 0; f < sheet.face_count(); ++f) {
+      double x = 0;
+      for (int k = 0; k < 3; ++k) x += sheet.node_pos[3 * sheet.face_nodes[3 * f + k]] / 3.0;
+      if (x > demo_grain_seam_x)
+        for (int k = 0; k < 3; ++k) sheet.corner_uv[6 * f + 2 * k] += 0.5f;
+    }
+    return sheet;
+  }
   if (scene != DemoScene::punch) return sheet;
   // Turned about x so that the normal +z becomes +y: (x, y, z) -> (x, z, 1 - y) (a rotation, so
   // the faces keep their orientation). The sheet's z is 0, so its nodes land on y = 0 and its
@@ -144,6 +158,19 @@ CutScript demo_script(DemoScene scene) {
                             {"gravity", {0.0, 0.0, 0.0}},
                             {"pins", nlohmann::json::array({left, right})},
                             {"tearing", tearing}};
+  } else if (scene == DemoScene::grain) {
+    const double d = demo_pull_distance / std::sqrt(2.0);
+    nlohmann::json left = box({-1.0, -1.0, -1.0}, {0.04, 2.0, 1.0});
+    left["keys"] = linear_keys({-d, -d, 0.0});
+    nlohmann::json right = box({0.96, -1.0, -1.0}, {2.0, 2.0, 1.0});
+    right["keys"] = linear_keys({d, d, 0.0});
+    nlohmann::json woven = tearing;
+    woven["weave"] = {{"warp", {0.0, 1.0}}, {"weft_strength", demo_grain_weft_strength}};
+    woven["seam_strength"] = demo_grain_seam_strength;
+    script["simulation"] = {{"fps", demo_fps},
+                            {"gravity", {0.0, 0.0, 0.0}},
+                            {"pins", nlohmann::json::array({left, right})},
+                            {"tearing", woven}};
   } else {
     // The four border rows of the horizontal sheet lie exactly on x = 0, x = 1, z = 0 and z = 1;
     // the next rows are more than 5 mm inside at the high resolution.

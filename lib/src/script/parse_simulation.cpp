@@ -182,6 +182,16 @@ TearingOptions parse_tearing(const Reader& reader, const json& value, const std:
   tearing.seam_strength =
       optional_number(reader, value, path, "seam_strength", 0.01, 100, "times the limit", 1.0, false);
   tearing.variation = optional_number(reader, value, path, "variation", 0, 0.9, "relative amplitude", 0, false);
+  // A limit at or under 1 tears the cloth at rest: each factor must leave the limit above 1.
+  const auto above_one = [&](const std::string& key, double factor, const std::string& what) {
+    if (!(tearing.stretch * factor > 1))
+      reader.fail(child_path(path, key), what + " times stretch (" + shown(tearing.stretch) + ") must be over 1, or the "
+                                              "cloth tears at rest; got " + shown(tearing.stretch * factor));
+  };
+  above_one("seam_strength", tearing.seam_strength, "seam_strength (" + shown(tearing.seam_strength) + ")");
+  if (tearing.has_weave)
+    above_one("weave", tearing.weave.weft_strength, "weave.weft_strength (" + shown(tearing.weave.weft_strength) + ")");
+  above_one("variation", 1 - tearing.variation, "1 - variation (" + shown(1 - tearing.variation) + ")");
   if (value.contains("seed"))
     tearing.seed = static_cast<std::uint32_t>(
         reader.integer(value["seed"], child_path(path, "seed"), 0, 4294967295LL, "an integer in 0..4294967295"));
