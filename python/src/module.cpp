@@ -163,6 +163,14 @@ nb::object next_frame(FrameIterator& it) {
     throw nb::stop_iteration();
   }
   auto frame = std::make_unique<PyFrame>();
+  // A frame that fails (a diverged simulation) ends the run: the next `next` stops.
+  struct EndOnError {
+    FrameIterator& it;
+    bool ok = false;
+    ~EndOnError() {
+      if (!ok) it.cloth.reset();
+    }
+  } end_on_error{it};
   {
     nb::gil_scoped_release release;
     const int f = it.next_frame;
@@ -186,6 +194,7 @@ nb::object next_frame(FrameIterator& it) {
     frame->fill_ids();
     ++it.next_frame;
   }
+  end_on_error.ok = true;
   return nb::cast(frame.release(), nb::rv_policy::take_ownership);
 }
 

@@ -1,7 +1,7 @@
 """Type hints of the `tear` package (docs/python.md)."""
 
 import os
-from typing import Any, Iterator, Literal, Mapping, Optional, Sequence, Tuple, TypedDict, Union
+from typing import Any, Iterator, Literal, Mapping, Optional, Sequence, Tuple, TypedDict, Union, overload
 
 import numpy as np
 import numpy.typing as npt
@@ -117,12 +117,17 @@ def cuda_available() -> bool: ...
 def read_mesh(path: PathLike, *, weld_tolerance: float = 0.0, mesh_name: Optional[str] = None, weld: bool = True,
               device: Device = "auto") -> Mesh: ...
 
+@overload
 def run(mesh: Union[Mesh, PathLike], script: Union[Script, Mapping[str, Any], PathLike], *, device: Device = "auto",
-        start_frame: int = 1, frames: Optional[int] = None, output: Optional[PathLike] = None,
+        start_frame: int = 1, frames: Optional[int] = None, output: None = None) -> FrameIterator:
+    """The frames of the run, one by one, each the mesh `tear run` writes for it."""
+@overload
+def run(mesh: Union[Mesh, PathLike], script: Union[Script, Mapping[str, Any], PathLike], *, device: Device = "auto",
+        start_frame: int = 1, frames: Optional[int] = None, output: PathLike,
         report: Optional[PathLike] = None, up_axis: Optional[str] = None, meters_per_unit: Optional[float] = None,
         checkpoint: Optional[PathLike] = None, checkpoint_every: int = 1, resume: bool = False,
-        writer_threads: int = 0) -> Any:
-    """An iterator of Frames without `output` (FrameIterator); a RunSummary with it."""
+        writer_threads: int = 0) -> RunSummary:
+    """The whole run written to `output`, exactly as `tear run -o OUTPUT` writes it."""
 
 class Cloth:
     def __init__(self, mesh: Union[Mesh, PathLike], *, device: Device = "auto",

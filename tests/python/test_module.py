@@ -141,6 +141,31 @@ class Identical(Work):
                         self.assertEqual(read(self.path("py", name)), read(self.path("cli", name)), name)
 
 
+class Threads(Work):
+    def test_gil_released_while_the_library_works(self):
+        # Another Python thread counts while a run writes its frames: it only can when the run has
+        # let go of the GIL.
+        script = self.script_file(dict(SIMULATED, frames=40))
+        count = [0]
+        done = threading.Event()
+
+        def counter():
+            while not done.is_set():
+                count[0] += 1
+
+        thread = threading.Thread(target=counter)
+        thread.start()
+        try:
+            time.sleep(0.05)
+            before = count[0]
+            tear.run(MESH, script, device="cpu", output=self.path("out", "f.####.ply"))
+            during = count[0] - before
+        finally:
+            done.set()
+            thread.join()
+        self.assertGreater(during, 10000, "the other thread counted %d while the run went on" % during)
+
+
 class Arrays(Work):
     def test_dtypes_shapes_read_only(self):
         frames = list(tear.run(MESH, CUTS, device="cpu"))
