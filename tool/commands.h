@@ -62,3 +62,24 @@ void add_read_options(CLI::App& command, ReadOptions& options);
 Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Device device);
 
 }  // namespace tear::cli
+
+namespace tear::cli {
+
+/// Messages from libraries (assimp, CLI11) may span lines; a pipeline log wants one line per error.
+std::string one_line(std::string message);
+
+/// An exit code and the message that goes with it (without the leading "tear: ").
+struct Failure {
+  int code = 0;
+  std::string message;
+};
+
+/// The exit code and message of the exception being handled (call inside a `catch`): a
+/// `tear::Error`'s own, 3 "out of memory" for `std::bad_alloc`, 3 "internal error: ..." for
+/// anything else. `tear` and each shot of `tear batch` report failures through it.
+Failure current_failure();
+
+/// `tear batch SHOTS.json`: the shots of a list run one after the other, each as `tear run` would.
+void add_batch_command(CLI::App& app);
+
+}  // namespace tear::cli

@@ -3,6 +3,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdlib>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -88,6 +89,31 @@ Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Devi
     throw input_error(path, report.describe() + " (the mesh has " + plural(mesh.node_count(), "node", "nodes") +
                                 " and " + plural(mesh.face_count(), "face", "faces") + ")");
   return mesh;
+}
+
+}  // namespace tear::cli
+
+namespace tear::cli {
+
+std::string one_line(std::string message) {
+  for (char& c : message)
+    if (c == '\n' || c == '\r') c = ' ';
+  while (!message.empty() && message.back() == ' ') message.pop_back();
+  return message;
+}
+
+Failure current_failure() {
+  try {
+    throw;
+  } catch (const tear::Error& e) {
+    return {e.exit_code(), one_line(e.what())};
+  } catch (const std::bad_alloc&) {
+    return {3, "out of memory"};
+  } catch (const std::exception& e) {
+    return {3, one_line(std::string("internal error: ") + e.what())};
+  } catch (...) {
+    return {3, "internal error: unknown exception"};
+  }
 }
 
 }  // namespace tear::cli

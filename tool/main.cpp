@@ -1,7 +1,6 @@
 // The `tear` command line: the app, its subcommands, and the one place where exceptions become
 // exit codes (0 ok, 1 usage, 2 bad input, 3 runtime failure, 4 interrupted, 5 meshes differ) and one-line messages.
 #include <iostream>
-#include <new>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -11,16 +10,8 @@
 
 namespace {
 
-/// Messages from libraries (assimp, CLI11) may span lines; a pipeline log wants one line per error.
-std::string one_line(std::string message) {
-  for (char& c : message)
-    if (c == '\n' || c == '\r') c = ' ';
-  while (!message.empty() && message.back() == ' ') message.pop_back();
-  return message;
-}
-
 int fail(int code, const std::string& message) {
-  std::cerr << "tear: " << one_line(message) << std::endl;
+  std::cerr << "tear: " << tear::cli::one_line(message) << std::endl;
   return code;
 }
 
@@ -48,6 +39,7 @@ int main(int argc, char** argv) {
   tear::cli::add_bench_command(app);
   tear::cli::add_demo_command(app);
   tear::cli::add_diff_command(app);
+  tear::cli::add_batch_command(app);
 
   try {
     app.parse(argc, argv);  // the chosen subcommand runs inside, as its callback
@@ -57,13 +49,8 @@ int main(int argc, char** argv) {
     return fail(1, e.what() + help_hint(app));
   } catch (const tear::cli::ExitCode& e) {
     return e.code;  // the command has said what it had to
-  } catch (const tear::Error& e) {
-    return fail(e.exit_code(), e.what());
-  } catch (const std::bad_alloc&) {
-    return fail(3, "out of memory");
-  } catch (const std::exception& e) {
-    return fail(3, std::string("internal error: ") + e.what());
   } catch (...) {
-    return fail(3, "internal error: unknown exception");
+    const tear::cli::Failure failure = tear::cli::current_failure();
+    return fail(failure.code, failure.message);
   }
 }

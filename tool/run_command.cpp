@@ -11,6 +11,7 @@
 #include "commands.h"
 #include "farm.h"
 #include "progress.h"
+#include "run_command.h"
 #include "tear/cut_script.h"
 #include "tear/error.h"
 #include "tear/frame_path.h"
@@ -22,21 +23,6 @@ namespace tear::cli {
 
 namespace {
 
-struct RunCommandOptions {
-  std::string mesh_path;
-  std::string script_path;
-  std::string output_pattern;
-  std::string device = "auto";
-  std::string report_path;
-  ReadOptions read;
-  int frames = 0;
-  int start_frame = 1;
-  std::string up_axis = "Y";
-  double meters_per_unit = 1;
-  bool usd_metadata_given = false;  // --up-axis or --meters-per-unit on the command line
-  bool verbose = false;
-  FarmOptions farm;
-};
 
 /// CLI11's PositiveNumber message quotes the largest double; say what is expected instead.
 std::string check_positive_int(const std::string& text) {
@@ -73,6 +59,8 @@ void print_frame(const FrameResult& frame, int last_frame) {
   std::cout << frame.path << std::endl;
   if (!std::cout) throw runtime_error("cannot write to standard output");
 }
+
+}  // namespace
 
 void run_run(const RunCommandOptions& options) {
   const auto start = std::chrono::steady_clock::now();
@@ -122,8 +110,6 @@ void run_run(const RunCommandOptions& options) {
   run_to_files(mesh, options.mesh_path, script, run);
   progress.finish();
 }
-
-}  // namespace
 
 void add_run_command(CLI::App& app) {
   auto options = std::make_shared<RunCommandOptions>();

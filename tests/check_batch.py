@@ -1,0 +1,113 @@
+#!/usr/bin/env python3
+"""`tear batch` with one bad shot among good ones.
+
+    check_batch.py TEAR_BINARY SOURCE_DIR
+
+- three shots, the second with a missing mesh: the batch exits 2 (the bad shot's code), the first
+  and third write exactly the files `tear run` writes alone for them (and their reports), the
+  second writes nothing; standard error holds the second shot's own message, as `tear run` gives
+  it, and a last line naming the failed shot;
+- a shot whose key is unknown fails alone with exit 1; a shot interrupted is not tested here;
+- a list that is not JSON, or not a list, exits 2 and runs nothing;
+- every shot ok: exit 0, nothing on standard error.
+"""
+
+import json
+import os
+import subprocess
+import sys
+import tempfile
+
+TEAR, SOURCE = sys.argv[1], sys.argv[2]
+MESH = os.path.join(SOURCE, "examples", "meshes", "sheet_low.obj")
+CUTS = os.path.join(SOURCE, "examples", "scripts", "crossing_cuts.json")
+SLIT = os.path.join(SOURCE, "examples", "scripts", "rest_xy_slit.json")
+
+failures = []
+
+
+def check(condition, what):
+    if not condition:
+        failures.append(what)
+        print("FAIL: " + what, file=sys.stderr)
+
+
+def tear(*args):
+    return subprocess.run([TEAR] + list(args), capture_output=True, text=True)
+
+
+def files(folder):
+    out = {}
+    for root, _, names in os.walk(folder):
+        for name in names:
+            path = os.path.join(root, name)
+            with open(path, "rb") as f:
+                out[os.path.relpath(path, folder)] = f.read()
+    return out
+
+
+with tempfile.TemporaryDirectory(prefix="tear-batch-") as work:
+    alone, batch = os.path.join(work, "alone"), os.path.join(work, "batch")
+    missing = os.path.join(work, "missing.obj")
+    # Alone: the two good shots, and the bad one's message.
+    r1 = tear("run", MESH, CUTS, "-o", os.path.join(alone, "a", "f.####.ply"), "--device", "cpu")
+    r3 = tear("run", MESH, SLIT, "-o", os.path.join(alone, "c", "f.####.obj"), "--device", "cpu", "--start-frame", "7")
+    r2 = tear("run", missing, CUTS, "-o", os.path.join(alone, "b", "f.####.ply"), "--device", "cpu")
+    check(r1.returncode == 0 and r3.returncode == 0, "the good shots run alone: %s %s" % (r1.stderr, r3.stderr))
+    check(r2.returncode == 2, "the bad shot alone exits 2, got %d" % r2.returncode)
+
+    shots = [
+        {"mesh": MESH, "script": CUTS, "output": os.path.join(batch, "a", "f.####.ply"),
+         "report": os.path.join(work, "report_a.json")},
+        {"mesh": missing, "script": CUTS, "output": os.path.join(batch, "b", "f.####.ply")},
+        {"mesh": MESH, "script": SLIT, "output": os.path.join(batch, "c", "f.####.obj"), "start_frame": 7},
+    ]
+    shots_path = os.path.join(work, "shots.json")
+    with open(shots_path, "w") as f:
+        json.dump(shots, f)
+    r = tear("batch", shots_path, "--device", "cpu")
+    check(r.returncode == 2, "the batch exits 2 (its bad shot's code), got %d: %s" % (r.returncode, r.stderr))
+    lines = r.stderr.splitlines()
+    check(len(lines) == 2, "two lines on standard error, got %r" % lines)
+    check(lines and lines[0] == r2.stderr.strip(), "the bad shot's message is tear run's: %r vs %r" %
+          (lines[:1], r2.stderr.strip()))
+    check(len(lines) > 1 and lines[1] == "tear: %s: 1 of 3 shots failed: [1] (exit 2)" % shots_path,
+          "the summary line: %r" % lines[1:])
+    check(r.stdout == "", "nothing on standard output without -v")
+    got = files(batch)
+    check(files(os.path.join(alone, "a")) == files(os.path.join(batch, "a")), "shot 1's frames are tear run's")
+    check(files(os.path.join(alone, "c")) == files(os.path.join(batch, "c")), "shot 3's frames are tear run's")
+    check("c/f.0007.obj" in got, "shot 3 numbers its frames from its start_frame")
+    check(not os.path.exists(os.path.join(batch, "b")), "the bad shot writes nothing")
+    with open(os.path.join(work, "report_a.json")) as f:
+        check(len(json.load(f)["frames"]) == 3, "shot 1's report has its 3 frames")
+
+    # An unknown key fails its shot alone, as a usage error.
+    shots[1] = {"mesh": MESH, "script": CUTS, "output": os.path.join(work, "d", "f.####.ply"), "fps": 24}
+    with open(shots_path, "w") as f:
+        json.dump(shots, f)
+    r = tear("batch", shots_path, "--device", "cpu", "-v")
+    check(r.returncode == 1, "an unknown key: exit 1, got %d" % r.returncode)
+    check(r.stderr.startswith("tear: %s: [1].fps: unknown key" % shots_path), "the unknown key named: %r" % r.stderr)
+    check("shot 1/3: ok" in r.stdout and "shot 2/3: failed, exit 1" in r.stdout and "shot 3/3: ok" in r.stdout,
+          "-v prints a line per shot: %r" % r.stdout)
+    check(not os.path.exists(os.path.join(work, "d")), "the shot with an unknown key writes nothing")
+
+    # A list that cannot be used runs nothing.
+    for text, what in (("[{", "not JSON"), ('{"mesh": 1}', "not a list"), ("[]", "empty")):
+        with open(shots_path, "w") as f:
+            f.write(text)
+        r = tear("batch", shots_path, "--device", "cpu")
+        check(r.returncode == 2 and r.stderr.startswith("tear: " + shots_path + ": "),
+              "a list %s exits 2 naming it: %d %r" % (what, r.returncode, r.stderr))
+
+    # Every shot ok.
+    with open(shots_path, "w") as f:
+        json.dump([shots[0], shots[2]], f)
+    r = tear("batch", shots_path, "--device", "cpu")
+    check(r.returncode == 0 and r.stderr == "", "every shot ok: exit 0, silent: %d %r" % (r.returncode, r.stderr))
+
+if failures:
+    print("%d check(s) failed" % len(failures), file=sys.stderr)
+    sys.exit(1)
+print("batch: every check holds")

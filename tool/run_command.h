@@ -1,0 +1,32 @@
+// tear CLI: the options of `tear run` and the run itself, shared by `tear run` and `tear batch`.
+#pragma once
+
+#include <string>
+
+#include "farm.h"
+#include "tear/read_mesh.h"
+
+namespace tear::cli {
+
+/// What `tear run` takes on its command line (and `tear batch` from each shot of its list).
+struct RunCommandOptions {
+  std::string mesh_path;
+  std::string script_path;
+  std::string output_pattern;
+  std::string device = "auto";
+  std::string report_path;
+  ReadOptions read;
+  int frames = 0;
+  int start_frame = 1;
+  std::string up_axis = "Y";
+  double meters_per_unit = 1;
+  bool usd_metadata_given = false;  // --up-axis or --meters-per-unit given
+  bool verbose = false;
+  FarmOptions farm;
+};
+
+/// One whole `tear run`: throws what the run throws (main.cpp, or `tear batch`, turns it into the
+/// exit code and the message).
+void run_run(const RunCommandOptions& options);
+
+}  // namespace tear::cli
