@@ -597,7 +597,7 @@ CrackPlan CrackField::plan(const std::vector<float>& node_pos) const {
   std::vector<index_t> loaded;  // pieces with a tip free to run that bears most of its limit
   for (index_t n : tips_) {
     if (static_cast<int>(paths.size()) >= options_.max_faces_per_step) break;
-    Tip tip{n, rest(n), {0, 0, 0}, {0, 0, 0}};
+    Tip tip{n, rest(n), {0, 0, 0}, {0, 0, 0}, rest(n)};
     Vec3 normal{0, 0, 0};
     for (index_t i = m_.topo.node_face_offset[n]; i < m_.topo.node_face_offset[n + 1]; ++i) {
       const index_t f = m_.topo.node_faces[i];
