@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "farm.h"
 #include "tear/error.h"
 
 namespace {
@@ -16,6 +17,9 @@ std::string one_line(std::string message) {
   for (char& c : message)
     if (c == '\n' || c == '\r') c = ' ';
   while (!message.empty() && message.back() == ' ') message.pop_back();
+  // A line of a log stays short whatever an input put in it (a file's text quoted by a library).
+  constexpr std::size_t longest = 400;
+  if (message.size() > longest) message = message.substr(0, longest - 3) + "...";
   return message;
 }
 
@@ -34,6 +38,7 @@ std::string help_hint(const CLI::App& app) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  tear::cli::install_stop_handlers();  // SIGTERM and SIGINT end in exit 4 from here on
   CLI::App app{"Cut and tear triangle cloth meshes on the GPU (or the CPU).", "tear"};
   app.set_version_flag("--version", "tear " TEAR_VERSION, "Print the version and exit");
   app.require_subcommand(1);
