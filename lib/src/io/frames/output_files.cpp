@@ -80,7 +80,7 @@ class OutputChecker {
         if (id.device == input_id.device && id.inode == input_id.inode)
           throw input_error(path, what + " is the input " + input.what + " " + input.path +
                                       "; refusing to overwrite it (choose another path)");
-      if (id.folder) throw runtime_error(path + ": cannot write " + what + ": it is a folder");
+      if (id.folder) throw input_error(path, "cannot write " + what + ": it is a folder");
     }
     // Only a regular file is replaced: a rename over a device node or a FIFO would replace it,
     // and a symbolic link would be replaced by a file (or, written through, write elsewhere).
