@@ -291,3 +291,19 @@ TEST_CASE("checkpoint: a checkpoint whose checksum matches is still checked as i
   tear::write_checkpoint((dir / "c.ckpt").string(), good);
   CHECK(timed_tear(dir, "run sheet.obj cut.json -o out/f.####.ply --checkpoint c.ckpt --resume").exit_code == 0);
 }
+
+TEST_CASE("validate: at most 256 cuts are tried on the mesh, however long the script", "[hostile][cli]") {
+  TempDir dir;
+  write_sheet(dir);
+  std::string cuts;
+  for (int i = 0; i < 300; ++i)
+    cuts += std::string(i ? "," : "") + R"({"frame": 1, "space": "rest-xy", "polyline": [[5, 5], [6, 6]]})";
+  dir.file("many.json", R"({"version": 1, "frames": 1, "cuts": [)" + cuts + "]}");
+  const Run run = timed_tear(dir, "validate many.json sheet.obj --device cpu");
+  INFO(run.err.substr(0, 400));
+  CHECK(run.exit_code == 0);
+  CHECK(run.err.find("cuts[255]: changes nothing") != std::string::npos);
+  CHECK(run.err.find("cuts[256]: changes nothing") == std::string::npos);
+  CHECK(run.err.find("many.json: only the first 256 polyline cuts were tried on the rest shape of sheet.obj (44 more "
+                     "not tried)") != std::string::npos);
+}
