@@ -56,6 +56,10 @@ CLI::Option* add_start_frame_option(CLI::App& command, int& start_frame);
 /// in `options`.
 void add_read_options(CLI::App& command, ReadOptions& options);
 
+/// Adds `--max-input-bytes BYTES` (process-wide: `set_max_input_bytes`) and `--max-faces N`
+/// (`options.max_faces`); part of `add_read_options`.
+void add_input_limits(CLI::App& command, ReadOptions& options);
+
 /// Reads the mesh at `path` and checks its indices and coordinates on `device`: a face index out of
 /// range or a non-finite coordinate throws an input `Error` naming the file and the counts, so that
 /// what is returned can go to `build_topology`.

@@ -4,11 +4,13 @@
 #include <cmath>
 #include <cstdlib>
 #include <new>
+#include <limits>
 #include <string>
 #include <vector>
 
 #include "commands.h"
 #include "tear/error.h"
+#include "tear/input_file.h"
 #include "tear/usd_layer.h"
 #include "tear/validate_mesh.h"
 
@@ -62,7 +64,25 @@ CLI::Option* add_start_frame_option(CLI::App& command, int& start_frame) {
       ->capture_default_str();
 }
 
+void add_input_limits(CLI::App& command, ReadOptions& options) {
+  command
+      .add_option_function<std::uint64_t>(
+          "--max-input-bytes", [](std::uint64_t bytes) { set_max_input_bytes(bytes); },
+          "Largest input file read (mesh, glTF buffer, script, checkpoint), in bytes; a larger file is bad "
+          "input (default " + std::to_string(default_max_input_bytes) + ", 4 GiB)")
+      ->type_name("BYTES")
+      ->check(CLI::Range(std::uint64_t(1), std::numeric_limits<std::uint64_t>::max()));
+  command
+      .add_option("--max-faces", options.max_faces,
+                  "Most triangles a mesh may have once read, polygons triangulated and glTF instances placed; "
+                  "more is bad input")
+      ->type_name("N")
+      ->check(CLI::Range(std::uint64_t(1), std::numeric_limits<std::uint64_t>::max()))
+      ->capture_default_str();
+}
+
 void add_read_options(CLI::App& command, ReadOptions& options) {
+  add_input_limits(command, options);
   command
       .add_option("--mesh-name", options.mesh_name,
                   "Read only the meshes of this name (the mesh's or its scene node's name); by default every mesh "
@@ -99,6 +119,9 @@ std::string one_line(std::string message) {
   for (char& c : message)
     if (c == '\n' || c == '\r') c = ' ';
   while (!message.empty() && message.back() == ' ') message.pop_back();
+  // A line of a log stays short whatever an input put in it (a file's text quoted by a library).
+  constexpr std::size_t longest = 400;
+  if (message.size() > longest) message = message.substr(0, longest - 3) + "...";
   return message;
 }
 

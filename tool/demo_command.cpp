@@ -76,6 +76,7 @@ void run_demo(const DemoCommandOptions& options) {
   run.on_frame = [&](const FrameResult& frame) {
     progress.frame(frame.frame, "frames, " + std::to_string(frame.faces_end) + " faces");
   };
+  begin_frames();
   const RunSummary summary = run_to_files(sheet, mesh_name, script, run);
   progress.finish();
 

@@ -26,6 +26,7 @@ constexpr int differ_exit_code = 5;
 struct DiffCommandOptions {
   std::string a, b;
   DiffOptions diff;
+  ReadOptions read;  // the limits only: both files are read with the default options
   bool json = false;
 };
 
@@ -76,7 +77,7 @@ void run_diff(const DiffCommandOptions& options) {
       what = "missing in " + std::string(pair.has_a ? "b (" + pair.b : "a (" + pair.a) + ")";
     } else {
       // Read as `tear run` reads them: by id for tear's PLY and GLB, by position otherwise.
-      const Mesh a = read_mesh(pair.a), b = read_mesh(pair.b);
+      const Mesh a = read_mesh(pair.a, options.read), b = read_mesh(pair.b, options.read);
       const MeshDiff diff = diff_meshes(a, b, options.diff);
       ++compared;
       largest.max_position = std::max(largest.max_position, diff.max_position);
@@ -142,6 +143,7 @@ void add_diff_command(CLI::App& app) {
       ->type_name("U")
       ->check(finite_non_negative())
       ->capture_default_str();
+  add_input_limits(*command, options->read);
   command->add_flag("--json", options->json,
                     "Print one JSON summary object instead of the lines (keys: see docs/cli.md)");
   command->callback([options] { run_diff(*options); });

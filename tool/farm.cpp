@@ -3,6 +3,8 @@
 #include <csignal>
 #include <cstdio>
 
+#include <unistd.h>
+
 #include "tear/error.h"
 
 namespace tear::cli {
@@ -10,8 +12,22 @@ namespace tear::cli {
 namespace {
 
 volatile std::sig_atomic_t stop_requested = 0;
+volatile std::sig_atomic_t frames_running = 0;
 
-extern "C" void request_stop(int) { stop_requested = 1; }
+/// Before the frames run (reading, checking: nothing written yet) a stop ends the process at once,
+/// with exit 4 and its one line, whatever the command is doing; while they run, it asks the run to
+/// stop after the frame being written.
+extern "C" void request_stop(int) {
+  if (!frames_running) {
+    static const char message[] = "tear: stopped before the first frame was written (SIGTERM or SIGINT)\n";
+    const ssize_t ignored = ::write(STDERR_FILENO, message, sizeof message - 1);
+    (void)ignored;
+    ::_exit(4);
+  }
+  stop_requested = 1;
+}
+
+}  // namespace
 
 void install_stop_handlers() {
   struct sigaction action {};
@@ -22,7 +38,7 @@ void install_stop_handlers() {
   sigaction(SIGINT, &action, nullptr);
 }
 
-}  // namespace
+void begin_frames() { frames_running = 1; }
 
 void add_farm_options(CLI::App& command, FarmOptions& options) {
   command
@@ -60,7 +76,6 @@ void apply_farm_options(const FarmOptions& options, RunOptions& run) {
   run.checkpoint_every = options.checkpoint_every;
   run.resume = options.resume;
   run.writer_threads = options.writer_threads;
-  install_stop_handlers();
   run.stop = &stop_requested;
 }
 

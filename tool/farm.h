@@ -24,8 +24,16 @@ struct FarmOptions {
 /// and `--writer-threads N`.
 void add_farm_options(CLI::App& command, FarmOptions& options);
 
-/// Copies the checkpoint options and the writer threads into `run`, and installs the SIGTERM/SIGINT
-/// handlers that stop the run after the frame being written (`RunOptions::stop`). The combination
+/// Installs the SIGTERM/SIGINT handlers: the first thing `main` does, so that a stop at any
+/// moment ends in exit 4. Until `begin_frames`, a stop ends the process at once (nothing has been
+/// written); after it, the run stops after the frame being written (`RunOptions::stop`).
+void install_stop_handlers();
+
+/// Marks the start of the frames: from now on a stop lets the frame being written finish.
+void begin_frames();
+
+/// Copies the checkpoint options and the writer threads into `run`, with the flag the stop
+/// handlers set (`RunOptions::stop`). The combination
 /// (`--resume` needs `--checkpoint`) is checked with the run's plan (`check_run_plan`).
 void apply_farm_options(const FarmOptions& options, RunOptions& run);
 

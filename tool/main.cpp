@@ -6,6 +6,7 @@
 #include <CLI/CLI.hpp>
 
 #include "commands.h"
+#include "farm.h"
 #include "tear/error.h"
 
 namespace {
@@ -25,6 +26,7 @@ std::string help_hint(const CLI::App& app) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  tear::cli::install_stop_handlers();  // SIGTERM and SIGINT end in exit 4 from here on
   CLI::App app{"Cut and tear triangle cloth meshes on the GPU (or the CPU).", "tear"};
   app.set_version_flag("--version", "tear " TEAR_VERSION, "Print the version and exit");
   app.require_subcommand(1);

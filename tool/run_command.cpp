@@ -107,6 +107,7 @@ void run_run(const RunCommandOptions& options) {
     }
     progress.frame(frame.frame, "frames, " + std::to_string(frame.faces_end) + " faces");
   };
+  begin_frames();
   run_to_files(mesh, options.mesh_path, script, run);
   progress.finish();
 }

@@ -5,6 +5,10 @@
 #include <cstdint>
 #include <string>
 
+#include "tear/cloth.h"
+#include "tear/cut_script.h"
+#include "tear/mesh.h"
+
 namespace tear {
 
 /// What a checkpoint was made from: a digest (64-bit FNV-1a) of the mesh file's bytes and of the
@@ -35,6 +39,17 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint);
 /// Reads a checkpoint `write_checkpoint` wrote. A file that is not one, truncated, of another
 /// version or whose checksum does not match is an input `Error` naming it (never a crash).
 Checkpoint read_checkpoint(const std::string& path);
+
+/// Checks a checkpoint as the input it is, once its checksum matched and its cloth was loaded
+/// (`Cloth::load_state`): a checksum guards against damage, not against a file made by hand.
+/// `frame` must be within the script's frames; the cloth must hold at least the nodes of `mesh`
+/// (a cut only appends nodes), finite positions, rest positions and velocities within bounds
+/// (rest positions inside the box of the mesh's, which cuts only interpolate; positions within
+/// 1e9 m plus that box; speeds at most 1e6 m/s), faces on nodes in range, none repeating a node,
+/// oriented consistently, manifold and not duplicated, and pins of the script's pins only.
+/// Throws an input `Error` naming `path` (exit 2) otherwise.
+void check_checkpoint_cloth(const std::string& path, int frame, const Cloth& cloth, const Mesh& mesh,
+                            const CutScript& script);
 
 /// Why `inputs` (of a checkpoint) does not fit `now` (of this run), e.g. "the script changed";
 /// empty when it fits.

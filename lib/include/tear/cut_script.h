@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <cstddef>
 #include <optional>
 #include <string>
 #include <vector>
@@ -77,6 +78,12 @@ struct CutScript {
   /// into `cuts` and stay valid while `cuts` is not modified.
   std::vector<const Cut*> cuts_of_frame(int frame) const;
 };
+
+/// The largest cut script read or parsed, in bytes (4 MiB; also within --max-input-bytes when read
+/// from a file), and the deepest nesting of its arrays and objects: both checked before parsing,
+/// which takes memory a few hundred times the text's size.
+constexpr std::size_t max_script_bytes = std::size_t(4) << 20;
+constexpr std::size_t max_script_depth = 32;
 
 /// Parses and validates a script held in memory, its `simulation` block included.
 /// `path_for_messages` names it in errors (and becomes `SimulationOptions::source`).

@@ -24,7 +24,11 @@ struct NamedPath {
 ///    another spelling of the path, a hard link or a symlink to the input are caught too; an
 ///    output that does not exist yet is no input;
 /// 2. no two outputs are the same path (a usage error: "<output>: the report is also frame 3");
-/// 3. every output's folder exists and can be written, or can be created: its nearest existing
+/// 3. every output that exists is a regular file: a folder, a FIFO, a device, a socket or a
+///    symbolic link at an output path is an input error (exit 2), since renaming a file over it
+///    would replace it (a device node, a FIFO another program reads) or write where the link
+///    points;
+/// 4. every output's folder exists and can be written, or can be created: its nearest existing
 ///    ancestor is a folder that can be written (a runtime error naming the folder, exit 3), and
 ///    an existing output is not a folder.
 ///
@@ -35,10 +39,22 @@ struct NamedPath {
 void check_output_files(const std::vector<NamedPath>& inputs, const FramePattern* pattern, int frame_count,
                         const std::vector<NamedPath>& outputs, int first_number = 1);
 
+/// Creates the temporary file of `path` for writing, beside it: `.<name>.tmp.<pid>.<16 hex
+/// digits>` (`tag` not empty: `.<name>.<tag>.tmp....`), the digits random (getrandom), so that
+/// names never collide, even between hosts or PID namespaces sharing a folder. Created with
+/// O_CREAT|O_EXCL|O_NOFOLLOW, so a file or symbolic link planted at the name is never written
+/// through (another name is drawn). Returns the open descriptor and sets `temporary`; throws a
+/// runtime `Error` naming `path` when it cannot be created.
+int create_temporary_file(const std::string& path, const std::string& tag, std::string& temporary);
+
+/// Throws a runtime `Error` naming `path` unless nothing is at `path` or a regular file is
+/// (symbolic links not followed): what a rename over `path` may replace.
+void check_replaceable(const std::string& path);
+
 /// Removes the temporary files that `write_file_atomically` of a process that no longer runs left
 /// beside `paths` (a killed run leaves `.cloth.0036.obj.tmp.4242` behind). Only files named
-/// `.<name>.tmp.<pid>` for a `<name>` of `paths`, in that path's folder, with a decimal `<pid>`
-/// of no running process (or of this one), are removed; nothing else in the folder is touched, and
+/// `.<name>.tmp.<pid>` or `.<name>.tmp.<pid>.<16 hex digits>` for a `<name>` of `paths`, in that
+/// path's folder, with a decimal `<pid>` of no running process (or of this one), are removed; nothing else in the folder is touched, and
 /// a folder that does not exist or cannot be listed is skipped. Returns how many were removed.
 /// A run calls it once, after its checks, with every file it is about to write.
 std::size_t remove_stale_temporaries(const std::vector<std::string>& paths);

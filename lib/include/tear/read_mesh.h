@@ -1,12 +1,16 @@
 // tear: reading a cloth mesh file into one welded topology that keeps the file's node order.
 #pragma once
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
 #include "tear/mesh.h"
 
 namespace tear {
+
+/// The default of `ReadOptions::max_faces` (`--max-faces`).
+constexpr std::uint64_t default_max_faces = 50'000'000;
 
 /// Options of `read_mesh`; mirrored by the CLI flags `--mesh-name`, `--weld-tolerance` and
 /// `--no-weld`.
@@ -21,6 +25,10 @@ struct ReadOptions {
   /// Weld the file's vertices into nodes: by id when the file carries ids (tear's own PLY and
   /// glTF/GLB), else by position. false: every vertex a face uses is a node of its own.
   bool weld = true;
+  /// The most triangles the mesh may have, counted after triangulating and placing every glTF
+  /// instance (a glTF file stops being read as soon as its placed triangles pass it); more is an
+  /// input `Error`. Mirrors `--max-faces`.
+  std::uint64_t max_faces = default_max_faces;
 };
 
 /// Reads OBJ, PLY, glTF/GLB (tear's own readers) or anything else assimp reads (docs/io.md).

@@ -2,6 +2,7 @@
 // nothing, sliver faces. `tear validate SCRIPT MESH` prints them as warnings.
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -19,10 +20,14 @@ namespace tear {
 ///   (...)". Such a cut misses the cloth, or is a slit too short to cross an edge away from the
 ///   snap zones of its nodes. Blades and planes cut the pose of their frame, which a simulation
 ///   moves, so they are not tried;
+///   Only the first `max_tried_cuts` such cuts are tried; when the script has more, one warning
+///   says how many were not ("shot.json: only the first 256 polyline cuts were tried ...");
 /// - sliver faces of `mesh` (`sliver_angle_deg`): "cloth.obj: 3 sliver faces (...)".
 ///
 /// `mesh` must pass `check_cuttable` and `check_script_against_mesh`. Cost: one cut of the whole
-/// mesh per tried cut.
+/// mesh per tried cut, so at most `max_tried_cuts` cuts of it.
+inline constexpr std::size_t max_tried_cuts = 256;
+
 std::vector<std::string> script_warnings(const CutScript& script, const Mesh& mesh, const std::string& mesh_path,
                                          Device device);
 

@@ -12,6 +12,7 @@
 #include "tear/find_frames.h"
 #include "tear/frame_path.h"
 #include "tear/frame_sink.h"
+#include "tear/input_file.h"
 #include "tear/make_sheet.h"
 #include "tear/mesh.h"
 #include "tear/mesh_info.h"

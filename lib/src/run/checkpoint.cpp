@@ -1,11 +1,14 @@
 #include "tear/checkpoint.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstring>
-#include <fstream>
-#include <iterator>
+#include <vector>
 #include <sstream>
 
 #include "tear/error.h"
+#include "tear/input_file.h"
+#include "tear/validate_mesh.h"
 #include "tear/write_mesh.h"
 
 namespace tear {
@@ -70,13 +73,7 @@ std::uint64_t digest_bytes(const std::string& bytes) {
   return h;
 }
 
-std::uint64_t digest_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw input_error(path, "cannot read");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw input_error(path, "cannot read");
-  return digest_bytes(bytes);
-}
+std::uint64_t digest_file(const std::string& path) { return digest_bytes(read_input_file(path, "the file")); }
 
 void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
   std::string out(magic, sizeof magic);
@@ -91,9 +88,7 @@ void write_checkpoint(const std::string& path, const Checkpoint& checkpoint) {
 }
 
 Checkpoint read_checkpoint(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw input_error(path, "cannot read the checkpoint");
-  const std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const std::string bytes = read_input_file(path, "the checkpoint");
   if (bytes.size() < sizeof magic + 8 || std::memcmp(bytes.data(), magic, sizeof magic) != 0)
     throw input_error(path, "not a tear checkpoint");
   std::uint64_t stored = 0;
@@ -114,6 +109,68 @@ Checkpoint read_checkpoint(const std::string& path) {
   c.cloth_state = r.get_string();
   if (c.frame < 1) throw input_error(path, "the checkpoint names frame " + std::to_string(c.frame));
   return c;
+}
+
+void check_checkpoint_cloth(const std::string& path, int frame, const Cloth& cloth, const Mesh& mesh,
+                            const CutScript& script) {
+  auto refuse = [&](const std::string& what) {
+    return input_error(path, "cannot resume from this checkpoint: " + what);
+  };
+  if (frame < 1 || frame > script.frames)
+    throw refuse("it names frame " + std::to_string(frame) + ", outside the script's frames 1.." +
+                 std::to_string(script.frames));
+  const index_t nodes = cloth.node_count(), faces = cloth.face_count();
+  if (nodes < mesh.node_count())
+    throw refuse("its cloth has " + std::to_string(nodes) + " nodes, fewer than the mesh's " +
+                 std::to_string(mesh.node_count()));
+  // The box of the mesh's rest shape: every node a cut makes interpolates nodes of it.
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0}, largest = 0;
+  for (index_t n = 0; n < mesh.node_count(); ++n)
+    for (int a = 0; a < 3; ++a) {
+      const double x = mesh.node_pos[3 * static_cast<std::size_t>(n) + a];
+      lo[a] = n == 0 ? x : std::min(lo[a], x);
+      hi[a] = n == 0 ? x : std::max(hi[a], x);
+      largest = std::max(largest, std::abs(x));
+    }
+  const std::vector<float> pos = cloth.node_pos(), rest = cloth.node_rest(), vel = cloth.node_vel();
+  const std::size_t values = 3 * static_cast<std::size_t>(nodes);
+  if (pos.size() != values || rest.size() != values || (!vel.empty() && vel.size() != values))
+    throw refuse("its arrays do not match its node count");
+  constexpr double max_distance = 1e9, max_speed = 1e6;
+  for (std::size_t i = 0; i < values; ++i) {
+    const int a = static_cast<int>(i % 3);
+    const double slack = 1e-5 * (hi[a] - lo[a]) + 1e-6 * std::max(std::abs(lo[a]), std::abs(hi[a])) + 1e-30;
+    if (!std::isfinite(rest[i]) || rest[i] < lo[a] - slack || rest[i] > hi[a] + slack)
+      throw refuse("node " + std::to_string(i / 3) + " has a rest position outside the mesh's rest shape");
+    if (!std::isfinite(pos[i]) || std::abs(pos[i]) > max_distance + largest)
+      throw refuse("node " + std::to_string(i / 3) + " has a position that is not finite or beyond 1e9 m");
+    if (!vel.empty() && (!std::isfinite(vel[i]) || std::abs(vel[i]) > max_speed))
+      throw refuse("node " + std::to_string(i / 3) + " has a velocity that is not finite or beyond 1e6 m/s");
+  }
+  const std::vector<index_t> face_nodes = cloth.face_nodes();
+  if (face_nodes.size() != 3 * static_cast<std::size_t>(faces)) throw refuse("its faces do not match its face count");
+  for (std::size_t f = 0; f < static_cast<std::size_t>(faces); ++f) {
+    const index_t* v = &face_nodes[3 * f];
+    for (int k = 0; k < 3; ++k)
+      if (v[k] < 0 || v[k] >= nodes) throw refuse("face " + std::to_string(f) + " uses a node out of range");
+    if (v[0] == v[1] || v[1] == v[2] || v[0] == v[2]) throw refuse("face " + std::to_string(f) + " repeats a node");
+  }
+  Mesh rest_shape;
+  rest_shape.node_pos = rest;
+  rest_shape.face_nodes = face_nodes;
+  const MeshReport report = validate_mesh(rest_shape, Device::cpu);
+  if (report.non_manifold_edges || report.non_manifold_nodes || report.inconsistent_edges || report.duplicate_faces) {
+    MeshReport shown;
+    shown.non_manifold_edges = report.non_manifold_edges;
+    shown.non_manifold_nodes = report.non_manifold_nodes;
+    shown.inconsistent_edges = report.inconsistent_edges;
+    shown.duplicate_faces = report.duplicate_faces;
+    throw refuse("its cloth cannot be cut: " + shown.describe());
+  }
+  const std::size_t pins = script.simulation ? script.simulation->pins.size() : 0;
+  const std::vector<std::uint8_t> pinned = cloth.node_pinned();
+  for (std::size_t n = 0; n < pinned.size(); ++n)
+    if (pinned[n] > pins) throw refuse("node " + std::to_string(n) + " is held by a pin the script does not have");
 }
 
 std::string inputs_mismatch(const RunInputs& inputs, const RunInputs& now) {

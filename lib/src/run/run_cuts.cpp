@@ -207,13 +207,19 @@ namespace {
 
 /// The first frame a run computes: 1, or, resuming from a checkpoint that exists, the frame after
 /// the checkpoint's, with the cloth as that frame left it.
-int resume_point(Cloth& cloth, const CutScript& script, const RunOptions& options, const RunInputs& inputs) {
+int resume_point(Cloth& cloth, const Mesh& mesh, const CutScript& script, const RunOptions& options,
+                 const RunInputs& inputs) {
   if (options.checkpoint_path.empty() || !options.resume || !std::filesystem::exists(options.checkpoint_path)) return 1;
   const Checkpoint checkpoint = read_checkpoint(options.checkpoint_path);
   const std::string why = inputs_mismatch(checkpoint.inputs, inputs);
   if (!why.empty()) throw input_error(options.checkpoint_path, "cannot resume from this checkpoint: " + why);
   if (script.simulation) cloth.simulate(*script.simulation);
+  if (checkpoint.frame > script.frames)
+    throw input_error(options.checkpoint_path, "cannot resume from this checkpoint: it names frame " +
+                                                   std::to_string(checkpoint.frame) + ", outside the script's frames 1.." +
+                                                   std::to_string(script.frames));
   cloth.load_state(checkpoint.cloth_state, options.checkpoint_path);
+  check_checkpoint_cloth(options.checkpoint_path, checkpoint.frame, cloth, mesh, script);
   return checkpoint.frame + 1;
 }
 
@@ -359,7 +365,7 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
   const std::unique_ptr<FrameSink> sink = make_sink(pattern, script, options);
   Cloth cloth(mesh, options.device);
   const RunInputs inputs = options.checkpoint_path.empty() ? RunInputs{} : run_inputs(mesh, script, options);
-  const int first_frame = resume_point(cloth, script, options, inputs);
+  const int first_frame = resume_point(cloth, mesh, script, options, inputs);
   totals.setup_ms = ms_since(start);
   // Declared after the sink: it is gone (its threads ended, the temporary files of frames it did
   // not rename removed) before the sink goes.

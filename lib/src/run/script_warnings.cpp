@@ -24,8 +24,16 @@ std::vector<std::string> script_warnings(const CutScript& script, const Mesh& me
   std::vector<std::string> warnings;
   CutOptions options;
   options.snap = script.snap;
+  // Each cut tried costs a cut of the whole mesh: the first `max_tried_cuts` are tried, so the
+  // check's time grows with the script's length only by reading it.
+  std::size_t tried = 0, untried = 0;
   for (const Cut& cut : script.cuts) {
     if (cut.kind != CutKind::polyline) continue;
+    if (tried == max_tried_cuts) {
+      ++untried;
+      continue;
+    }
+    ++tried;
     Cloth cloth(mesh, device);
     const CutStats stats = cloth.cut({to_cut_line(cut)}, options);
     if (stats.nodes_after != stats.nodes_before || stats.faces_after != stats.faces_before) continue;
@@ -33,6 +41,11 @@ std::vector<std::string> script_warnings(const CutScript& script, const Mesh& me
                        " (it misses the cloth, or is a slit too short to cross an edge outside the snap distance of " +
                        "its nodes, " + shown(script.snap) + " of an edge)");
   }
+
+  if (untried > 0)
+    warnings.push_back(script.path + ": only the first " + std::to_string(max_tried_cuts) +
+                       " polyline cuts were tried on the rest shape of " + mesh_path + " (" + std::to_string(untried) +
+                       " more not tried)");
 
   const Topology topology = build_topology(mesh, device);
   const MeshInfo info = compute_mesh_info(mesh, topology, validate_mesh(mesh, topology, device));

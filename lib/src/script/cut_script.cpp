@@ -15,6 +15,7 @@
 #include <sstream>
 
 #include "tear/error.h"
+#include "tear/input_file.h"
 
 namespace tear {
 
@@ -161,7 +162,36 @@ class PathTracker {
   std::vector<Level> levels_;
 };
 
+/// How deep arrays and objects nest in `text` (strings skipped), counted before parsing: the
+/// parser and the key path tracker recurse and allocate per level.
+std::size_t nesting_depth(const std::string& text) {
+  std::size_t depth = 0, deepest = 0;
+  bool in_string = false;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (in_string) {
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        in_string = false;
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+    } else if ((c == ']' || c == '}') && depth > 0) {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
 json parse_json(const std::string& text, const std::string& file) {
+  if (text.size() > max_script_bytes)
+    throw input_error(file, "the cut script has " + std::to_string(text.size()) + " bytes, more than the limit of " +
+                                std::to_string(max_script_bytes));
+  if (nesting_depth(text) > max_script_depth)
+    throw input_error(file, "the cut script nests arrays and objects deeper than " + std::to_string(max_script_depth) +
+                                " levels");
   PathTracker tracker(file);
   try {
     return json::parse(text,
@@ -332,14 +362,10 @@ CutScript parse_cut_script(const std::string& text, const std::string& path_for_
 }
 
 CutScript read_cut_script(const std::string& path) {
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw input_error(path, "cannot read the cut script: it is a directory");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw input_error(path, std::string("cannot open the cut script: ") + std::strerror(errno));
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw input_error(path, std::string("cannot read the cut script: ") + std::strerror(errno));
-  return parse_cut_script(text.str(), path);
+  // A regular file within the script's own limit, read at once: a FIFO or /dev/urandom as the
+  // script is refused instead of blocking or growing without end.
+  return parse_cut_script(read_input_file(path, "the cut script", std::min(max_input_bytes(), max_script_bytes)),
+                          path);
 }
 
 void check_script_against_mesh(const CutScript& script, const Mesh& mesh, const std::string& mesh_path) {

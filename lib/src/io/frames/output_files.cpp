@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "tear/error.h"
+#include "tear/input_file.h"
 
 namespace tear {
 
@@ -79,8 +80,14 @@ class OutputChecker {
         if (id.device == input_id.device && id.inode == input_id.inode)
           throw input_error(path, what + " is the input " + input.what + " " + input.path +
                                       "; refusing to overwrite it (choose another path)");
-      if (id.folder) throw runtime_error(path + ": cannot write " + what + ": it is a folder");
+      if (id.folder) throw input_error(path, "cannot write " + what + ": it is a folder");
     }
+    // Only a regular file is replaced: a rename over a device node or a FIFO would replace it,
+    // and a symbolic link would be replaced by a file (or, written through, write elsewhere).
+    struct stat s {};
+    if (::lstat(path.c_str(), &s) == 0 && !S_ISREG(s.st_mode))
+      throw input_error(path, "cannot write " + what + ": it is " + file_kind(s.st_mode) +
+                                  "; only a regular file is replaced (choose another path)");
     check_folder(folder_of(path));
   }
 

@@ -3,9 +3,15 @@
 // that assimp drops, and nothing merged or reordered. tinygltf checks the JSON and the buffers'
 // declared lengths; the GLB container and every accessor's range are checked here, before any
 // value is read, and an index out of range is an error (assimp drops such faces).
+#include <limits.h>
+#include <stdlib.h>
+#include <sys/stat.h>
 #include <tiny_gltf.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -21,6 +27,7 @@
 #include "io/gltf/gltf_accessors.h"
 #include "io/mesh/file_mesh.h"
 #include "tear/error.h"
+#include "tear/input_file.h"
 
 namespace tear {
 namespace {
@@ -89,12 +96,151 @@ bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, in
   return true;
 }
 
-/// tinygltf's messages span lines and end with periods; ours are one line.
+/// tinygltf's messages span lines and end with periods, and quote a buffer's `uri` whole (a
+/// data URI of megabytes); ours are one line of at most a few hundred characters.
 std::string one_line(std::string text) {
   std::replace(text.begin(), text.end(), '\n', ' ');
   std::replace(text.begin(), text.end(), '\r', ' ');
   while (!text.empty() && (text.back() == ' ' || text.back() == '.')) text.pop_back();
+  constexpr std::size_t longest = 160;
+  if (text.size() > longest) text = text.substr(0, longest) + "...";
   return text;
+}
+
+// External files (`uri` of buffers and images). A glTF names its own files, so a uri is confined
+// to the folder of the glTF and below: after percent-decoding, no URL scheme (`file:`), no
+// absolute path, no `..`; the path resolved (symbolic links followed) must stay inside the folder
+// and be a regular file within --max-input-bytes. Each is checked before tinygltf reads anything,
+// and tinygltf reads through callbacks that open only the files checked (never the current
+// folder, its fallback). Messages name the glTF and the buffer or image, never the target.
+
+/// tinygltf's decoding of a uri (dlib's urldecode): %XX and '+' for a space.
+std::string decode_uri(const std::string& uri) {
+  auto hex = [](char c) -> int {
+    if (c >= '0' && c <= '9') return c - '0';
+    if (c >= 'a' && c <= 'f') return c - 'a' + 10;
+    if (c >= 'A' && c <= 'F') return c - 'A' + 10;
+    return 0;
+  };
+  std::string out;
+  for (std::size_t i = 0; i < uri.size(); ++i) {
+    if (uri[i] == '+') {
+      out += ' ';
+    } else if (uri[i] == '%' && uri.size() > i + 2) {
+      out += static_cast<char>((hex(uri[i + 1]) << 4) | hex(uri[i + 2]));
+      i += 2;
+    } else {
+      out += uri[i];
+    }
+  }
+  return out;
+}
+
+/// tinygltf's JoinPath.
+std::string join_path(const std::string& folder, const std::string& name) {
+  if (folder.empty()) return name;
+  return folder.back() == '/' ? folder + name : folder + "/" + name;
+}
+
+std::string real_path(const std::string& path) {
+  char resolved[PATH_MAX];
+  if (::realpath(path.c_str(), resolved) == nullptr) return {};
+  return resolved;
+}
+
+/// The files a glTF may read: the path tinygltf asks for, the file it resolves to, and whether
+/// to read it (buffers) or not (images, which tear does not decode).
+struct ExternalFiles {
+  std::string gltf;
+  std::map<std::string, std::pair<std::string, bool>> allowed;
+};
+
+/// Checks the uri of `buffers[index]` or `images[index]` and adds it to `files`.
+void allow_uri(const std::string& base_dir, const std::string& kind, std::size_t index, const std::string& uri,
+               std::uint64_t byte_length, ExternalFiles& files) {
+  const std::string& path = files.gltf;
+  const std::string name = kind + " " + std::to_string(index);
+  const std::string decoded = decode_uri(uri);
+  auto refuse = [&](const std::string& why) { return input_error(path, name + ": " + why); };
+  const std::string rule = "a uri must be a relative path to a file in the folder of the glTF or below";
+  // A scheme (file:, http:, C:) is letters, digits, '+', '-', '.' before a ':'.
+  const std::size_t colon = decoded.find(':');
+  const bool scheme = colon != std::string::npos && colon > 0 &&
+                      std::all_of(decoded.begin(), decoded.begin() + static_cast<std::ptrdiff_t>(colon), [](char c) {
+                        return std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '.';
+                      });
+  if (decoded.empty() || scheme || decoded[0] == '/' || decoded[0] == '\\' || decoded.find('\0') != std::string::npos)
+    throw refuse("the uri is not a relative path (" + rule + ")");
+  for (std::size_t at = 0; at <= decoded.size();) {
+    std::size_t end = decoded.find_first_of("/\\", at);
+    if (end == std::string::npos) end = decoded.size();
+    if (decoded.compare(at, end - at, "..") == 0) throw refuse("the uri goes up with '..' (" + rule + ")");
+    at = end + 1;
+  }
+  const std::string asked = join_path(base_dir, decoded);
+  const std::string folder = real_path(base_dir.empty() ? "." : base_dir);
+  const std::string target = real_path(asked);
+  struct stat s {};
+  if (folder.empty() || target.empty() || target.compare(0, folder.size() + 1, folder + "/") != 0 ||
+      ::stat(target.c_str(), &s) != 0 || !S_ISREG(s.st_mode))
+    throw refuse("the uri does not name a regular file in the folder of the glTF or below (" + rule + ")");
+  if (static_cast<std::uint64_t>(s.st_size) > max_input_bytes())
+    throw refuse("its file is over the limit of " + std::to_string(max_input_bytes()) + " bytes (--max-input-bytes)");
+  if (kind == "buffer" && static_cast<std::uint64_t>(s.st_size) != byte_length)
+    throw refuse("its file does not have the buffer's byteLength of " + std::to_string(byte_length) + " bytes");
+  auto& entry = files.allowed[asked];
+  entry.first = target;
+  entry.second = entry.second || kind == "buffer";
+}
+
+/// Every external uri of the document in `json` checked (data: URIs are tinygltf's to decode).
+ExternalFiles external_files(const std::string& path, const char* json, std::size_t size) {
+  ExternalFiles files;
+  files.gltf = path;
+  nlohmann::json document = nlohmann::json::parse(json, json + size, nullptr, false);
+  if (!document.is_object()) return files;  // tinygltf says what is wrong
+  const std::string base_dir = std::filesystem::path(path).parent_path().string();
+  for (const char* kind : {"buffers", "images"}) {
+    const auto list = document.find(kind);
+    if (list == document.end() || !list->is_array()) continue;
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      const nlohmann::json& item = (*list)[i];
+      if (!item.is_object()) continue;
+      const auto uri = item.find("uri");
+      if (uri == item.end() || !uri->is_string()) continue;
+      const std::string& text = uri->get_ref<const std::string&>();
+      if (text.empty() || text.compare(0, 5, "data:") == 0) continue;
+      const auto length = item.find("byteLength");
+      const std::uint64_t byte_length =
+          length != item.end() && length->is_number_unsigned() ? length->get<std::uint64_t>() : 0;
+      allow_uri(base_dir, std::string(kind) == "buffers" ? "buffer" : "image", i, text, byte_length, files);
+    }
+  }
+  return files;
+}
+
+bool external_file_exists(const std::string& asked, void* user) {
+  return static_cast<const ExternalFiles*>(user)->allowed.count(asked) != 0;
+}
+
+std::string keep_path(const std::string& path, void*) { return path; }
+
+bool read_external_file(std::vector<unsigned char>* out, std::string* error, const std::string& asked, void* user) {
+  const ExternalFiles& files = *static_cast<const ExternalFiles*>(user);
+  const auto found = files.allowed.find(asked);
+  if (found == files.allowed.end() || !found->second.second) {
+    *error = "not read";
+    return false;
+  }
+  if (real_path(asked) != found->second.first) throw input_error(files.gltf, "a file it names changed while it was read");
+  const std::string bytes = read_input_file(found->second.first, "a file of " + files.gltf);
+  out->assign(bytes.begin(), bytes.end());
+  return true;
+}
+
+bool write_nothing(std::string* error, const std::string&, const std::vector<unsigned char>&, void*) {
+  *error = "not written";
+  return false;
 }
 
 using gltf::AccessorReader;
@@ -194,8 +340,10 @@ std::optional<tinygltf::Model> load_model(const std::string& path, const std::st
     throw input_error(path, "glTF JSON nests deeper than " + std::to_string(max_json_depth) + " levels");
   }
 
+  ExternalFiles files = external_files(path, bytes.data() + json_begin, json_size);
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(skip_image, nullptr);
+  loader.SetFsCallbacks({external_file_exists, keep_path, read_external_file, write_nothing, &files});
   tinygltf::Model model;
   std::string error, warning;
   const std::string base_dir = std::filesystem::path(path).parent_path().string();
@@ -381,7 +529,8 @@ std::vector<index_t> primitive_triangles(const tinygltf::Primitive& primitive,
 
 /// Primitive `k` of the placement's mesh appended to `out`, placed.
 void append_primitive(const std::string& path, const tinygltf::Model& model, const AccessorReader& reader,
-                      const Placement& p, std::size_t k, const Channels& with, FileMesh& out) {
+                      const Placement& p, std::size_t k, const Channels& with, std::uint64_t max_faces,
+                      FileMesh& out) {
   const tinygltf::Mesh& mesh = model.meshes[p.mesh];
   const tinygltf::Primitive& primitive = mesh.primitives[k];
   const std::string name = "mesh " + std::to_string(p.mesh) +
@@ -395,6 +544,9 @@ void append_primitive(const std::string& path, const tinygltf::Model& model, con
   if (out.mesh.face_nodes.size() + triangles.size() > max_index_count) {
     throw input_error(path, "too large: more than 2^31 face corners");
   }
+  // Checked as each placed primitive is added: a few nodes placing a mesh many times over would
+  // otherwise multiply its faces without bound before any later check.
+  check_face_budget(path, (out.mesh.face_nodes.size() + triangles.size()) / 3, max_faces);
 
   PlacedTriangles placed;
   placed.vertex_count = static_cast<index_t>(vertex_count);
@@ -411,7 +563,7 @@ void append_primitive(const std::string& path, const tinygltf::Model& model, con
 }  // namespace
 
 std::optional<FileMesh> read_gltf_file(const std::string& path, const std::string& bytes,
-                                       const std::string& mesh_name) {
+                                       const std::string& mesh_name, std::uint64_t max_faces) {
   const std::optional<tinygltf::Model> model = load_model(path, bytes);
   if (!model) return std::nullopt;
   const std::vector<Placement> placements = scene_placements(path, *model, mesh_name);
@@ -423,7 +575,7 @@ std::optional<FileMesh> read_gltf_file(const std::string& path, const std::strin
     for (std::size_t k = 0; k < mesh.primitives.size(); ++k) {
       const tinygltf::Primitive& primitive = mesh.primitives[k];
       if (!is_triangles(primitive) || !primitive.attributes.count("POSITION")) continue;
-      append_primitive(path, *model, reader, p, k, with, out);
+      append_primitive(path, *model, reader, p, k, with, max_faces, out);
     }
   }
   return out;

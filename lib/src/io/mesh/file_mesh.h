@@ -33,7 +33,12 @@ FileMesh read_obj_file(const std::string& path, std::string bytes, const std::st
                        std::size_t piece_bytes = obj_piece_bytes);
 FileMesh read_ply_file(const std::string& path, const std::string& bytes, const std::string& mesh_name);
 /// glTF 2.0 and GLB 2; nothing for a glTF 1.0 document (another schema, which assimp reads).
-std::optional<FileMesh> read_gltf_file(const std::string& path, const std::string& bytes, const std::string& mesh_name);
+/// `max_faces`: the placed triangles at which reading stops with an input error (instancing can
+/// multiply a small file's faces without bound).
+std::optional<FileMesh> read_gltf_file(const std::string& path, const std::string& bytes, const std::string& mesh_name,
+                                       std::uint64_t max_faces);
+/// Throws an input error naming `path` when `faces` is over `max_faces` (`--max-faces`).
+void check_face_budget(const std::string& path, std::uint64_t faces, std::uint64_t max_faces);
 FileMesh read_assimp_file(const std::string& path, const std::string& mesh_name);
 
 /// The error for a `--mesh-name` that names nothing, listing the names the file has.

@@ -12,6 +12,7 @@
 
 #include "io/mesh/file_mesh.h"
 #include "tear/error.h"
+#include "tear/input_file.h"
 
 namespace tear {
 namespace {
@@ -36,63 +37,45 @@ Reader reader_for(const std::string& path, const std::string& head) {
   return Reader::assimp;
 }
 
-std::string read_file(const std::string& path, std::size_t limit) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw input_error(path, std::string("cannot read: ") + std::strerror(errno));
-  // The whole file in one read into a string of its size: a stream copied through an
-  // ostringstream costs two more copies of a file of hundreds of megabytes.
-  if (limit == std::string::npos) {
-    in.seekg(0, std::ios::end);
-    const std::streamoff size = in.tellg();
-    in.seekg(0, std::ios::beg);
-    if (size < 0 || !in) {
-      std::ostringstream all;  // not seekable (a pipe): read it as a stream
-      in.clear();
-      all << in.rdbuf();
-      if (in.bad()) throw input_error(path, std::string("cannot read: ") + std::strerror(errno));
-      return all.str();
-    }
-    limit = static_cast<std::size_t>(size);
-  }
-  std::string bytes;
-  bytes.resize(limit);
-  in.read(&bytes[0], static_cast<std::streamsize>(limit));
-  if (in.bad()) throw input_error(path, std::string("cannot read: ") + std::strerror(errno));
-  bytes.resize(static_cast<std::size_t>(in.gcount()));
-  return bytes;
-}
-
 }  // namespace
+
+void check_face_budget(const std::string& path, std::uint64_t faces, std::uint64_t max_faces) {
+  if (faces > max_faces)
+    throw input_error(path, "has " + std::to_string(faces) + " triangles or more, over the limit of " +
+                                std::to_string(max_faces) + " (--max-faces)");
+}
 
 Mesh read_mesh(const std::string& path, const ReadOptions& options) {
   if (!std::isfinite(options.weld_tolerance) || options.weld_tolerance < 0.0) {
     throw Error(ErrorKind::usage,
                 "weld tolerance must be a finite number >= 0, got " + std::to_string(options.weld_tolerance));
   }
-  std::error_code ec;
-  if (std::filesystem::is_directory(path, ec)) throw input_error(path, "cannot read: is a directory");
-
-  const std::string head = read_file(path, 4);
-  if (head.empty()) throw input_error(path, "is empty");
+  // A regular file of a known size within --max-input-bytes, read at once: never a FIFO, a
+  // device or a folder, which would block, run forever or fail with no file named.
+  std::string bytes = read_input_file(path, "the mesh");
+  if (bytes.empty()) throw input_error(path, "is empty");
   FileMesh file;
-  switch (reader_for(path, head)) {
+  switch (reader_for(path, bytes.substr(0, 4))) {
     case Reader::obj:
-      file = read_obj_file(path, read_file(path, std::string::npos), options.mesh_name);
+      file = read_obj_file(path, std::move(bytes), options.mesh_name);
       break;
     case Reader::ply:
-      file = read_ply_file(path, read_file(path, std::string::npos), options.mesh_name);
+      file = read_ply_file(path, bytes, options.mesh_name);
       break;
     case Reader::gltf:
-      if (std::optional<FileMesh> gltf = read_gltf_file(path, read_file(path, std::string::npos), options.mesh_name)) {
+      if (std::optional<FileMesh> gltf = read_gltf_file(path, bytes, options.mesh_name, options.max_faces)) {
         file = std::move(*gltf);
       } else {
+        std::string().swap(bytes);
         file = read_assimp_file(path, options.mesh_name);
       }
       break;
     case Reader::assimp:
+      std::string().swap(bytes);
       file = read_assimp_file(path, options.mesh_name);
       break;
   }
+  check_face_budget(path, file.mesh.face_count(), options.max_faces);
 
   Mesh& mesh = file.mesh;
   if (mesh.face_count() == 0) throw input_error(path, "holds no triangles");

@@ -22,6 +22,7 @@
 
 #include "io/usd/usda_text.h"
 #include "tear/error.h"
+#include "tear/output_files.h"
 #include "tear/write_mesh.h"
 
 namespace tear {
@@ -59,14 +60,6 @@ void write_all(int fd, const char* data, std::size_t size, const std::string& pa
     data += n;
     size -= static_cast<std::size_t>(n);
   }
-}
-
-/// `.<name>.<tag>.tmp.<pid>` beside `path` (`tag` empty: `.<name>.tmp.<pid>`, write_mesh's name).
-std::string temporary_path(const std::string& path, const std::string& tag) {
-  const std::size_t slash = path.find_last_of('/');
-  const std::string dir = slash == std::string::npos ? std::string() : path.substr(0, slash + 1);
-  const std::string name = slash == std::string::npos ? path : path.substr(slash + 1);
-  return dir + "." + name + (tag.empty() ? "" : "." + tag) + ".tmp." + std::to_string(::getpid());
 }
 
 }  // namespace
@@ -189,9 +182,13 @@ struct UsdLayer::Sequence {
     opened = true;
     for (int i = 0; i < attribute_count; ++i) {
       if (!attributes.has(static_cast<Attribute>(i))) continue;
-      file_paths[i] = temporary_path(path, declarations[i].file_tag);
-      files[i] = std::fopen(file_paths[i].c_str(), "wb");
-      if (!files[i]) throw write_error(path, errno);
+      const int fd = create_temporary_file(path, declarations[i].file_tag, file_paths[i]);
+      files[i] = ::fdopen(fd, "wb");
+      if (!files[i]) {
+        const int error = errno;
+        ::close(fd);
+        throw write_error(path, error);
+      }
     }
   }
 
@@ -232,8 +229,7 @@ struct UsdLayer::Sequence {
       files[i] = nullptr;
       if (failed != 0) throw write_error(path, errno);
     }
-    assembled_path = temporary_path(path, "");
-    FileDescriptor out{::open(assembled_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666)};
+    FileDescriptor out{create_temporary_file(path, "", assembled_path)};
     if (out.fd < 0) throw write_error(path, errno);
     const std::string head = layer_head(first_frame, last_frame, options);
     write_all(out.fd, head.data(), head.size(), path);
@@ -277,6 +273,7 @@ struct UsdLayer::Sequence {
     const int fd = out.fd;
     out.fd = -1;
     if (::close(fd) != 0) throw write_error(path, errno);
+    check_replaceable(path);
     if (std::rename(assembled_path.c_str(), path.c_str()) != 0) throw write_error(path, errno);
     assembled_path.clear();
     finished = true;

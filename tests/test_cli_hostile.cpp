@@ -1,0 +1,309 @@
+// Hostile assets and a shared farm, through the binary and the library: no file read or written
+// outside what the user named, no hang on a FIFO or a device, bounded work, exit 4 on a stop at any
+// moment, and a checkpoint checked as the input it is.
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <climits>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "catch.h"
+#include "cli_support.h"
+#include "tear/checkpoint.h"
+#include "tear/cloth.h"
+#include "tear/error.h"
+#include "tear/output_files.h"
+#include "tear/read_mesh.h"
+#include "tear/write_mesh.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using tear::test::quoted;
+using tear::test::Run;
+using tear::test::TempDir;
+
+/// `tear ARGS` in `dir`, stopped after 60 s: a read that blocks fails the test instead of hanging it.
+Run timed_tear(const TempDir& dir, const std::string& args) {
+  const fs::path out = dir / "stdout.txt", err = dir / "stderr.txt";
+  const std::string command = "cd " + quoted(dir.path) + " && timeout 60 " + quoted(TEAR_BINARY) + " " + args +
+                              " >" + quoted(out) + " 2>" + quoted(err);
+  INFO(command);
+  const int status = std::system(command.c_str());
+  REQUIRE(status != -1);
+  REQUIRE(WIFEXITED(status));
+  Run run{WEXITSTATUS(status), tear::test::read_bytes(out), tear::test::read_bytes(err)};
+  fs::remove(out);
+  fs::remove(err);
+  return run;
+}
+
+/// One error line: exit `code`, nothing on standard output, one line holding `fragment`.
+void check_refused(const Run& run, int code, const std::string& fragment) {
+  INFO(run.err);
+  CHECK(run.exit_code == code);
+  CHECK(run.out.empty());
+  CHECK(run.err.rfind("tear: ", 0) == 0);
+  CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+  CHECK(run.err.find(fragment) != std::string::npos);
+  CHECK(run.err.size() < 500);
+}
+
+std::string triangle_buffer() {
+  std::string bytes;
+  for (float v : {0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f}) bytes.append(reinterpret_cast<const char*>(&v), 4);
+  return bytes;
+}
+
+/// A glTF of one triangle whose buffer is at `uri`, placed by `nodes` nodes; `image_uri`: an image too.
+std::string triangle_gltf(const std::string& uri, std::size_t byte_length = 36, int nodes = 1,
+                          const std::string& image_uri = "") {
+  std::string node_list, scene;
+  for (int i = 0; i < nodes; ++i) {
+    node_list += std::string(i ? "," : "") + "{\"mesh\": 0}";
+    scene += std::string(i ? "," : "") + std::to_string(i);
+  }
+  return R"({"asset": {"version": "2.0"}, "scenes": [{"nodes": [)" + scene + R"(]}], "nodes": [)" + node_list +
+         R"(], "meshes": [{"primitives": [{"attributes": {"POSITION": 0}}]}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 3, "type": "VEC3"}],
+    "bufferViews": [{"buffer": 0, "byteOffset": 0, "byteLength": 36}],)" +
+         (image_uri.empty() ? std::string() : R"("images": [{"uri": ")" + image_uri + R"("}],)") +
+         R"("buffers": [{"byteLength": )" + std::to_string(byte_length) + R"(, "uri": ")" + uri + R"("}]})";
+}
+
+const char* const cut_script =
+    R"({"version": 1, "frames": 2, "cuts": [{"frame": 1, "space": "rest-xy", "polyline": [[-0.1, 0.45], [1.1, 0.45]]}]})";
+
+void write_sheet(const TempDir& dir) {
+  tear::write_mesh(tear::test::regular_sheet(), (dir / "sheet.obj").string());
+  dir.file("cut.json", cut_script);
+}
+
+}  // namespace
+
+TEST_CASE("glTF: a buffer or image uri may only name a regular file in the glTF's folder or below", "[hostile][cli]") {
+  TempDir dir;
+  fs::create_directory(dir / "asset");
+  fs::create_directory(dir / "asset" / "inner");
+  dir.file("secret.bin", triangle_buffer());
+  dir.file("asset/ok.bin", triangle_buffer());
+  dir.file("asset/inner/deep.bin", triangle_buffer());
+  fs::create_symlink("../secret.bin", dir / "asset" / "out.bin");
+  fs::create_symlink("ok.bin", dir / "asset" / "in.bin");
+  REQUIRE(::mkfifo((dir / "asset" / "fifo.bin").c_str(), 0600) == 0);
+  const std::string secret = (dir / "secret.bin").string();
+
+  // Allowed: a file beside the glTF or below it, by a link that stays inside, percent-encoded.
+  for (const std::string& uri : std::vector<std::string>{"ok.bin", "inner/deep.bin", "in.bin", "inner%2Fdeep.bin", "./ok.bin"}) {
+    dir.file("asset/good.gltf", triangle_gltf(uri));
+    const Run run = timed_tear(dir, "info asset/good.gltf --json");
+    INFO(uri << ": " << run.err);
+    CHECK(run.exit_code == 0);
+  }
+  // Refused, naming the glTF and the buffer and nothing of the target, whatever the current folder.
+  for (const std::string& uri : std::vector<std::string>{"../secret.bin", "%2E%2E/secret.bin", "..%2Fsecret.bin", "inner/../../secret.bin",
+                                secret, "file://" + secret, "file:secret.bin", "out.bin", "fifo.bin", "inner",
+                                ".", "missing.bin", "%00ok.bin"}) {
+    dir.file("asset/bad.gltf", triangle_gltf(uri));
+    INFO(uri);
+    const Run run = timed_tear(dir, "info asset/bad.gltf");
+    check_refused(run, 2, "asset/bad.gltf: buffer 0: ");
+    CHECK(run.err.find("secret") == std::string::npos);
+  }
+  // Run from the glTF's folder: the current folder is no fallback for a file below it.
+  dir.file("asset/inner/up.gltf", triangle_gltf("ok.bin"));
+  check_refused(timed_tear(dir, "info asset/inner/up.gltf"), 2, "buffer 0: the uri does not name a regular file");
+  // An image is held to the same rule (it is never decoded).
+  dir.file("asset/image.gltf", triangle_gltf("ok.bin", 36, 1, "../secret.bin"));
+  check_refused(timed_tear(dir, "info asset/image.gltf"), 2, "asset/image.gltf: image 0: ");
+  // A wrong byteLength does not say the size of the file it found.
+  dir.file("asset/length.gltf", triangle_gltf("ok.bin", 40));
+  const Run length = timed_tear(dir, "info asset/length.gltf");
+  check_refused(length, 2, "buffer 0: its file does not have the buffer's byteLength of 40 bytes");
+  CHECK(length.err.find("36") == std::string::npos);
+}
+
+TEST_CASE("glTF: a bad data uri is not echoed whole; instancing is bounded by --max-faces", "[hostile][cli]") {
+  TempDir dir;
+  dir.file("data.gltf", triangle_gltf("data:application/octet-stream;base64," + std::string(200000, '!')));
+  check_refused(timed_tear(dir, "info data.gltf"), 2, "data.gltf: ");
+  dir.file("ok.bin", triangle_buffer());
+  dir.file("many.gltf", triangle_gltf("ok.bin", 36, 5000));
+  check_refused(timed_tear(dir, "info many.gltf --max-faces 1000"), 2,
+                "many.gltf: has 1001 triangles or more, over the limit of 1000 (--max-faces)");
+  CHECK(timed_tear(dir, "info many.gltf --json").exit_code == 0);
+  tear::ReadOptions options;
+  options.max_faces = 10;
+  CHECK_THROWS_AS(tear::read_mesh((dir / "many.gltf").string(), options), tear::Error);
+}
+
+TEST_CASE("inputs: FIFOs, devices and folders are refused at once, never read", "[hostile][cli]") {
+  TempDir dir;
+  write_sheet(dir);
+  REQUIRE(::mkfifo((dir / "fifo").c_str(), 0600) == 0);
+  fs::create_directory(dir / "folder");
+  // A FIFO nobody writes to would block a read forever.
+  check_refused(timed_tear(dir, "info fifo"), 2, "fifo: cannot read the mesh: it is a FIFO, not a regular file");
+  check_refused(timed_tear(dir, "run sheet.obj fifo -o out/f.####.obj"), 2,
+                "fifo: cannot read the cut script: it is a FIFO");
+  check_refused(timed_tear(dir, "validate fifo"), 2, "fifo: cannot read the cut script: it is a FIFO");
+  check_refused(timed_tear(dir, "diff fifo sheet.obj"), 2, "fifo: cannot read the mesh: it is a FIFO");
+  check_refused(timed_tear(dir, "diff sheet.obj fifo"), 2, "fifo: cannot read the mesh: it is a FIFO");
+  check_refused(timed_tear(dir, "info folder"), 2, "folder: cannot read the mesh: it is a directory");
+  // A character device that never ends (/dev/zero read as the script grew memory forever).
+  check_refused(timed_tear(dir, "validate /dev/zero"), 2, "/dev/zero: cannot read the cut script: it is a character device");
+  CHECK_FALSE(fs::exists(dir / "out"));
+  // Sizes: the limit is known before a byte is read.
+  check_refused(timed_tear(dir, "info sheet.obj --max-input-bytes 100"), 2, "more than the limit of 100 (--max-input-bytes)");
+  dir.file("deep.json", std::string(100, '[') + std::string(100, ']'));
+  check_refused(timed_tear(dir, "validate deep.json"), 2, "deep.json: the cut script nests arrays and objects deeper than 32");
+  dir.file("big.json", "{\"frames\": 1, \"cuts\": []" + std::string(5 << 20, ' ') + "}");
+  check_refused(timed_tear(dir, "validate big.json"), 2, "big.json: cannot read the cut script: it has");
+}
+
+TEST_CASE("outputs: a FIFO, device, folder or symbolic link at an output path is refused before any work",
+          "[hostile][cli]") {
+  TempDir dir;
+  write_sheet(dir);
+  dir.file("victim.txt", "keep me");
+  REQUIRE(::mkfifo((dir / "fifo").c_str(), 0600) == 0);
+  fs::create_directory(dir / "folder");
+  fs::create_symlink("victim.txt", dir / "link.json");
+  std::vector<std::string> targets = {"fifo", "folder", "link.json"};
+  // A character device of our own (the numbers of /dev/null), where the tests may make one (root).
+  if (::mknod((dir / "device").c_str(), S_IFCHR | 0600, ::makedev(1, 3)) == 0) targets.push_back("device");
+  for (const std::string& target : targets) {
+    for (const std::string option : {"--report", "--checkpoint"}) {
+      INFO(option << " " << target);
+      check_refused(timed_tear(dir, "run sheet.obj cut.json -o out/f.####.obj " + option + " " + target), 2,
+                    target + ": cannot write the ");
+      CHECK_FALSE(fs::exists(dir / "out"));
+    }
+  }
+  // A frame's own path.
+  REQUIRE(::mkfifo((dir / "frame.obj").c_str(), 0600) == 0);
+  fs::create_symlink("victim.txt", dir / "frame.ply");
+  check_refused(timed_tear(dir, "run sheet.obj cut.json --frames 1 -o frame.obj"), 2,
+                "frame.obj: cannot write frame 1: it is a FIFO");
+  check_refused(timed_tear(dir, "run sheet.obj cut.json --frames 1 -o frame.ply"), 2,
+                "frame.ply: cannot write frame 1: it is a symbolic link");
+  struct stat s {};
+  REQUIRE(::lstat((dir / "fifo").c_str(), &s) == 0);
+  CHECK(S_ISFIFO(s.st_mode));
+  REQUIRE(::lstat((dir / "link.json").c_str(), &s) == 0);
+  CHECK(S_ISLNK(s.st_mode));
+  CHECK(tear::test::read_bytes(dir / "victim.txt") == "keep me");
+}
+
+TEST_CASE("outputs: temporaries are fresh files under random names, never written through a planted link",
+          "[hostile][outputs]") {
+  TempDir dir;
+  dir.file("victim.txt", "keep me");
+  const std::string target = (dir / "f.obj").string();
+  // The names an older tear used, and names like this tear's: links planted at them are not followed.
+  fs::create_symlink(dir / "victim.txt", dir / (".f.obj.tmp." + std::to_string(::getpid())));
+  std::string first, second;
+  const int a = tear::create_temporary_file(target, "", first);
+  const int b = tear::create_temporary_file(target, "", second);
+  REQUIRE(a >= 0);
+  REQUIRE(b >= 0);
+  ::close(a);
+  ::close(b);
+  CHECK(first != second);
+  const std::string prefix = (dir / (".f.obj.tmp." + std::to_string(::getpid()) + ".")).string();
+  CHECK(first.rfind(prefix, 0) == 0);
+  CHECK(first.size() == prefix.size() + 16);
+  fs::remove(first);
+  fs::remove(second);
+  tear::write_file_atomically(target, "frame");
+  CHECK(tear::test::read_bytes(dir / "f.obj") == "frame");
+  CHECK(tear::test::read_bytes(dir / "victim.txt") == "keep me");
+  // A symbolic link put at the target after the checks is not replaced either.
+  fs::remove(dir / "f.obj");
+  fs::create_symlink(dir / "victim.txt", dir / "f.obj");
+  CHECK_THROWS_AS(tear::write_file_atomically(target, "frame"), tear::Error);
+  CHECK(tear::test::read_bytes(dir / "victim.txt") == "keep me");
+  // Stale temporaries of both spellings are cleared; this run's own random names are recognised.
+  dir.file(".g.obj.tmp.999999999.0123456789abcdef", "");
+  dir.file(".g.obj.tmp.999999999.0123456789abcdeg", "");
+  CHECK(tear::remove_stale_temporaries({(dir / "g.obj").string()}) == 1);
+  CHECK(fs::exists(dir / ".g.obj.tmp.999999999.0123456789abcdeg"));
+}
+
+TEST_CASE("signals: SIGTERM before the first frame ends in exit 4", "[hostile][cli]") {
+  TempDir dir;
+  // A long command with no frames: the stop lands while it works, and ends it with exit 4.
+  const std::string command = "cd " + quoted(dir.path) + " && (" + quoted(TEAR_BINARY) +
+                              " bench --device cpu --only pd --faces 262144 --iterations 1000 --repeats 1000 --no-cpu >/dev/null "
+                              "2>err.txt & pid=$!; sleep 1; kill -TERM $pid; wait $pid; exit $?)";
+  const int status = std::system(command.c_str());
+  REQUIRE(WIFEXITED(status));
+  CHECK(WEXITSTATUS(status) == 4);
+  CHECK(tear::test::read_bytes(dir / "err.txt").find("tear: stopped before the first frame") != std::string::npos);
+}
+
+TEST_CASE("checkpoint: a checkpoint whose checksum matches is still checked as input", "[hostile][resume]") {
+  TempDir dir;
+  write_sheet(dir);
+  dir.file("cut.json", R"({"version": 1, "frames": 4, "cuts": [{"frame": 1, "space": "rest-xy",
+    "polyline": [[-0.1, 0.45], [1.1, 0.45]]}]})");
+  const Run first = timed_tear(dir, "run sheet.obj cut.json -o out/f.####.ply --frames 2 --checkpoint c.ckpt");
+  REQUIRE(first.exit_code == 0);
+  const tear::Checkpoint good = tear::read_checkpoint((dir / "c.ckpt").string());
+  const tear::Mesh sheet = tear::read_mesh((dir / "sheet.obj").string());
+
+  auto resume_with = [&](const tear::Checkpoint& bad, const std::string& fragment) {
+    tear::write_checkpoint((dir / "c.ckpt").string(), bad);
+    const Run run = timed_tear(dir, "run sheet.obj cut.json -o out/f.####.ply --checkpoint c.ckpt --resume");
+    check_refused(run, 2, "c.ckpt: cannot resume from this checkpoint: " + fragment);
+  };
+  auto with_state = [&](const std::vector<float>& pos, const std::vector<float>& vel) {
+    tear::Cloth cloth(sheet, tear::Device::cpu);
+    cloth.load_state(good.cloth_state, "c.ckpt");
+    cloth.set_node_state(pos, vel);
+    tear::Checkpoint bad = good;
+    bad.cloth_state = cloth.save_state();
+    return bad;
+  };
+  tear::Cloth cloth(sheet, tear::Device::cpu);
+  cloth.load_state(good.cloth_state, "c.ckpt");
+  const std::vector<float> pos = cloth.node_pos(), vel = cloth.node_vel();
+
+  tear::Checkpoint bad = good;
+  bad.frame = INT_MAX;
+  resume_with(bad, "it names frame 2147483647, outside the script's frames 1..4");
+  std::vector<float> v = vel;
+  v.assign(pos.size(), 0.0f);
+  v[4] = 1e30f;
+  resume_with(with_state(pos, v), "node 1 has a velocity that is not finite or beyond 1e6 m/s");
+  std::vector<float> p = pos;
+  p[0] = std::numeric_limits<float>::infinity();
+  resume_with(with_state(p, std::vector<float>(pos.size(), 0.0f)), "node 0 has a position that is not finite");
+  // The good one still resumes.
+  tear::write_checkpoint((dir / "c.ckpt").string(), good);
+  CHECK(timed_tear(dir, "run sheet.obj cut.json -o out/f.####.ply --checkpoint c.ckpt --resume").exit_code == 0);
+}
+
+TEST_CASE("validate: at most 256 cuts are tried on the mesh, however long the script", "[hostile][cli]") {
+  TempDir dir;
+  write_sheet(dir);
+  std::string cuts;
+  for (int i = 0; i < 300; ++i)
+    cuts += std::string(i ? "," : "") + R"({"frame": 1, "space": "rest-xy", "polyline": [[5, 5], [6, 6]]})";
+  dir.file("many.json", R"({"version": 1, "frames": 1, "cuts": [)" + cuts + "]}");
+  const Run run = timed_tear(dir, "validate many.json sheet.obj --device cpu");
+  INFO(run.err.substr(0, 400));
+  CHECK(run.exit_code == 0);
+  CHECK(run.err.find("cuts[255]: changes nothing") != std::string::npos);
+  CHECK(run.err.find("cuts[256]: changes nothing") == std::string::npos);
+  CHECK(run.err.find("many.json: only the first 256 polyline cuts were tried on the rest shape of sheet.obj (44 more "
+                     "not tried)") != std::string::npos);
+}
