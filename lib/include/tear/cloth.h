@@ -78,7 +78,7 @@ struct CutProvenance {
 
 /// What tearing did in one `Cloth::step` (docs/simulation.md, "Tearing").
 struct TearStats {
-  /// Tear events: a crack laid through one face (the faces torn, over the frame's substeps).
+  /// Tear events: crack advances and starts laid over the frame's substeps.
   index_t events = 0;
   /// Rest length of the new crack segments, metres (as laid, before the cut points snap).
   double length = 0;

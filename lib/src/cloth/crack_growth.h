@@ -61,6 +61,8 @@ class CrackField {
                 double* strength) const;
   /// Per face: its stretch tensor in rest coordinates (6 values), for `smoothed`.
   std::vector<double> face_tensors(const std::vector<float>& node_pos) const;
+  /// The largest opening stretch over its limit of any tip (1: at its limit), for the tests.
+  double largest_tip_ratio(const std::vector<float>& node_pos) const;
   /// The crack tips: border nodes whose rest angle sum passes 1.5π.
   const std::vector<index_t>& tips() const { return tips_; }
 
@@ -68,6 +70,9 @@ class CrackField {
   struct Tip;
   using Vec3 = std::array<double, 3>;
   Vec3 rest(index_t n) const;
+  /// Tip `n` with its normal, the crack's course (the line fitted through its slit) and its forward
+  /// direction; false when the slit gives no direction.
+  bool make_tip(index_t n, Tip& tip) const;
   void build_grid();
   void build_border();
   template <class F>
@@ -76,6 +81,16 @@ class CrackField {
   /// limit (0 when it is held back by `min_piece`).
   bool advance(const Tip& tip, const std::vector<double>& tensors, std::vector<Vec3>& path, bool& joined,
                double& ratio) const;
+  /// The direction a tip runs in (across the smoothed stretch, along a thread or a seam) and its
+  /// opening stretch over its limit; `seam_path` the seam edge it runs along, if it does.
+  double choose_direction(const Tip& tip, const double* S, double limit, Vec3& d, std::vector<Vec3>& seam_path) const;
+  /// Whether `p` lies within a radius of a crack, or four of a tip.
+  bool near_crack(const Vec3& p) const;
+  /// The faces that may start a crack: over `start`, not in a loaded piece, one per grid cell.
+  std::vector<index_t> start_candidates(const std::vector<double>& stretch, const std::vector<index_t>& loaded) const;
+  /// A seam reaching the border that opens there, if it passes `best`.
+  bool seam_start(const std::vector<double>& tensors, const std::vector<index_t>& loaded, double& best,
+                  std::vector<Vec3>& path) const;
   /// The path of a new crack, if one starts: not in the pieces `loaded` (sorted) whose tips bear load.
   bool start(const std::vector<double>& tensors, const std::vector<double>& stretch,
              const std::vector<index_t>& loaded, std::vector<Vec3>& path) const;

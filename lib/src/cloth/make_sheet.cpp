@@ -70,6 +70,66 @@ struct SheetWriter {
   }
 };
 
+/// The (n + 1)² grid nodes of a sheet of n × n cells of side `cell`, jittered (drawing from
+/// `random` in node order) when `irregular`. Border coordinates are exactly 0 or `far`, so the
+/// outline is the square.
+void place_grid_nodes(Mesh& mesh, std::int64_t n, double cell, float far, bool irregular, Random& random) {
+  const std::int64_t side = n + 1;
+  for (std::int64_t j = 0; j <= n; ++j) {
+    for (std::int64_t i = 0; i <= n; ++i) {
+      const bool border_x = i == 0 || i == n;
+      const bool border_y = j == 0 || j == n;
+      double dx = 0.0;
+      double dy = 0.0;
+      if (irregular) {
+        if (!border_x && !border_y) {
+          // Uniform in the unit disc by rejection: no trigonometry, so bit-identical everywhere.
+          do {
+            dx = random.symmetric();
+            dy = random.symmetric();
+          } while (dx * dx + dy * dy > 1.0);
+        } else if (!border_x) {
+          dx = random.symmetric();
+        } else if (!border_y) {
+          dy = random.symmetric();
+        }
+      }
+      float x = static_cast<float>(cell * (static_cast<double>(i) + jitter_cells * dx));
+      float y = static_cast<float>(cell * (static_cast<double>(j) + jitter_cells * dy));
+      if (i == 0) x = 0.0f;
+      if (i == n) x = far;
+      if (j == 0) y = 0.0f;
+      if (j == n) y = far;
+      const std::size_t node = static_cast<std::size_t>(j * side + i);
+      mesh.node_pos[3 * node + 0] = x;
+      mesh.node_pos[3 * node + 1] = y;
+      mesh.node_pos[3 * node + 2] = 0.0f;
+    }
+  }
+
+}
+
+/// Which of `quad_count` quads get a centre node (`centre_count` of them): uniformly at random
+/// (Floyd's sampling) when `irregular`, else evenly spaced.
+std::vector<std::uint8_t> pick_centre_quads(std::int64_t quad_count, std::int64_t centre_count, bool irregular,
+                                            Random& random) {
+  std::vector<std::uint8_t> quad_centre(static_cast<std::size_t>(quad_count), 0);
+  if (irregular) {
+    // Floyd's sampling: k distinct quads, uniformly, in O(k) draws.
+    for (std::int64_t j = quad_count - centre_count; j < quad_count; ++j) {
+      const std::int64_t t = static_cast<std::int64_t>(random.below(static_cast<std::uint64_t>(j + 1)));
+      quad_centre[static_cast<std::size_t>(quad_centre[static_cast<std::size_t>(t)] ? j : t)] = 1;
+    }
+  } else {
+    // Evenly spaced; quad_count / centre_count >= 1, so the picks are distinct.
+    for (std::int64_t t = 0; t < centre_count; ++t) {
+      quad_centre[static_cast<std::size_t>((2 * t + 1) * quad_count / (2 * centre_count))] = 1;
+    }
+  }
+
+  return quad_centre;
+}
+
 }  // namespace
 
 Mesh make_sheet(const SheetOptions& options) {
@@ -102,53 +162,8 @@ Mesh make_sheet(const SheetOptions& options) {
 
   Mesh mesh;
   mesh.node_pos.resize(static_cast<std::size_t>(3 * (grid_node_count + centre_count)));
-  // Grid nodes. Border coordinates are exactly 0 or `far`, so the outline is the square.
-  for (std::int64_t j = 0; j <= n; ++j) {
-    for (std::int64_t i = 0; i <= n; ++i) {
-      const bool border_x = i == 0 || i == n;
-      const bool border_y = j == 0 || j == n;
-      double dx = 0.0;
-      double dy = 0.0;
-      if (options.irregular) {
-        if (!border_x && !border_y) {
-          // Uniform in the unit disc by rejection: no trigonometry, so bit-identical everywhere.
-          do {
-            dx = random.symmetric();
-            dy = random.symmetric();
-          } while (dx * dx + dy * dy > 1.0);
-        } else if (!border_x) {
-          dx = random.symmetric();
-        } else if (!border_y) {
-          dy = random.symmetric();
-        }
-      }
-      float x = static_cast<float>(cell * (static_cast<double>(i) + jitter_cells * dx));
-      float y = static_cast<float>(cell * (static_cast<double>(j) + jitter_cells * dy));
-      if (i == 0) x = 0.0f;
-      if (i == n) x = far;
-      if (j == 0) y = 0.0f;
-      if (j == n) y = far;
-      const std::size_t node = static_cast<std::size_t>(j * side + i);
-      mesh.node_pos[3 * node + 0] = x;
-      mesh.node_pos[3 * node + 1] = y;
-      mesh.node_pos[3 * node + 2] = 0.0f;
-    }
-  }
-
-  // Which quads get a centre node.
-  std::vector<std::uint8_t> quad_centre(static_cast<std::size_t>(quad_count), 0);
-  if (options.irregular) {
-    // Floyd's sampling: k distinct quads, uniformly, in O(k) draws.
-    for (std::int64_t j = quad_count - centre_count; j < quad_count; ++j) {
-      const std::int64_t t = static_cast<std::int64_t>(random.below(static_cast<std::uint64_t>(j + 1)));
-      quad_centre[static_cast<std::size_t>(quad_centre[static_cast<std::size_t>(t)] ? j : t)] = 1;
-    }
-  } else {
-    // Evenly spaced; quad_count / centre_count >= 1, so the picks are distinct.
-    for (std::int64_t t = 0; t < centre_count; ++t) {
-      quad_centre[static_cast<std::size_t>((2 * t + 1) * quad_count / (2 * centre_count))] = 1;
-    }
-  }
+  place_grid_nodes(mesh, n, cell, far, options.irregular, random);
+  const std::vector<std::uint8_t> quad_centre = pick_centre_quads(quad_count, centre_count, options.irregular, random);
 
   mesh.face_nodes.resize(static_cast<std::size_t>(3 * face_count));
   mesh.corner_uv.resize(static_cast<std::size_t>(6 * face_count));

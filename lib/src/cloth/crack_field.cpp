@@ -1,0 +1,303 @@
+// tear: what crack growth knows of the rest mesh (crack_growth.h): faces' areas, normals and
+// stretch tensors, the grid of faces by disc-sized cell, the smoothed tensor, the border walked
+// both ways with its torn edges and seams, the nearest border point and the piece a cut would leave.
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <vector>
+
+#include "cloth/crack_geometry.h"
+#include "cloth/crack_growth.h"
+
+namespace tear {
+
+using namespace crack;
+
+namespace {
+
+/// A hash of a lattice point and a seed to [-1, 1].
+double lattice_value(std::int64_t x, std::int64_t y, std::int64_t z, std::uint32_t seed) {
+  std::uint64_t h = 0x9E3779B97F4A7C15ull ^ seed;
+  for (std::int64_t v : {x, y, z}) {
+    h ^= static_cast<std::uint64_t>(v) + 0x9E3779B97F4A7C15ull + (h << 6) + (h >> 2);
+    h *= 0xBF58476D1CE4E5B9ull;
+    h ^= h >> 31;
+  }
+  return static_cast<double>(h >> 11) / static_cast<double>(1ull << 53) * 2 - 1;
+}
+
+/// Value noise of unit feature size at p (trilinear between lattice values, smoothstep weights).
+double value_noise(const Vec3& p, std::uint32_t seed) {
+  std::int64_t i[3];
+  double t[3];
+  for (int a = 0; a < 3; ++a) {
+    const double f = std::floor(p[a]);
+    i[a] = static_cast<std::int64_t>(f);
+    const double s = p[a] - f;
+    t[a] = s * s * (3 - 2 * s);
+  }
+  double v = 0;
+  for (int c = 0; c < 8; ++c) {
+    double w = 1;
+    for (int a = 0; a < 3; ++a) w *= (c >> a & 1) ? t[a] : 1 - t[a];
+    v += w * lattice_value(i[0] + (c & 1), i[1] + (c >> 1 & 1), i[2] + (c >> 2 & 1), seed);
+  }
+  return v;
+}
+
+}  // namespace
+
+std::vector<float> face_strength_field(const std::vector<float>& node_rest, const std::vector<index_t>& face_nodes,
+                                       const TearingOptions& options) {
+  const std::size_t faces = face_nodes.size() / 3;
+  std::vector<float> strength(faces, 1.f);
+  if (options.variation <= 0) return strength;
+  for (std::size_t f = 0; f < faces; ++f) {
+    Vec3 c{0, 0, 0};
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) c[d] += node_rest[3 * face_nodes[3 * f + k] + d] / 3.0;
+    strength[f] = static_cast<float>(1 + options.variation * value_noise(scale(c, 1 / options.radius), options.seed));
+  }
+  return strength;
+}
+
+CrackField::CrackField(CrackMesh mesh, const TearingOptions& options) : m_(std::move(mesh)), options_(options) {
+  const index_t faces = m_.topo.face_count, nodes = m_.topo.node_count;
+  face_centroid_.resize(faces);
+  face_normal_.resize(faces);
+  face_area_.resize(faces);
+  node_angle_.assign(nodes, 0);
+  for (index_t f = 0; f < faces; ++f) {
+    Vec3 X[3];
+    for (int k = 0; k < 3; ++k) X[k] = rest(m_.face_nodes[3 * f + k]);
+    face_centroid_[f] = scale(add(add(X[0], X[1]), X[2]), 1 / 3.0);
+    const Vec3 n = cross(sub(X[1], X[0]), sub(X[2], X[0]));
+    face_area_[f] = 0.5 * norm(n);
+    total_area_ += face_area_[f];
+    face_normal_[f] = unit(n);
+    for (int k = 0; k < 3; ++k) {
+      const Vec3 a = sub(X[(k + 1) % 3], X[k]), b = sub(X[(k + 2) % 3], X[k]);
+      const double c = dot(a, b) / std::max(norm(a) * norm(b), 1e-300);
+      node_angle_[m_.face_nodes[3 * f + k]] += std::acos(std::max(-1.0, std::min(1.0, c)));
+    }
+  }
+  // The smoothing disc spans a face at least, so a coarse mesh still averages a neighbourhood.
+  double edges = 0;
+  for (index_t e = 0; e < m_.topo.edge_count; ++e)
+    edges += norm(sub(rest(m_.topo.edge_nodes[2 * e]), rest(m_.topo.edge_nodes[2 * e + 1])));
+  radius_ = std::max(options_.radius, m_.topo.edge_count > 0 ? 0.5 * edges / m_.topo.edge_count : 0.0);
+  build_grid();
+  build_border();
+  // The pieces (faces joined through nodes), for keeping a loaded crack's piece to itself.
+  std::vector<index_t> parent(nodes);
+  for (index_t n = 0; n < nodes; ++n) parent[n] = n;
+  const auto find = [&](index_t n) {
+    while (parent[n] != n) n = parent[n] = parent[parent[n]];
+    return n;
+  };
+  for (index_t f = 0; f < faces; ++f)
+    for (int k = 1; k < 3; ++k) {
+      const index_t a = find(m_.face_nodes[3 * f]), b = find(m_.face_nodes[3 * f + k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  node_piece_.resize(nodes);
+  for (index_t n = 0; n < nodes; ++n) node_piece_[n] = find(n);
+}
+
+CrackField::Vec3 CrackField::rest(index_t n) const {
+  return {m_.node_rest[3 * n], m_.node_rest[3 * n + 1], m_.node_rest[3 * n + 2]};
+}
+
+void CrackField::build_grid() {
+  cell_ = radius_;
+  const index_t faces = m_.topo.face_count;
+  std::vector<std::pair<std::int64_t, index_t>> keyed(faces);
+  for (index_t f = 0; f < faces; ++f) {
+    std::int64_t key = 0;
+    for (int a = 0; a < 3; ++a)
+      key = key * (std::int64_t(1) << 21) + ((static_cast<std::int64_t>(std::floor(face_centroid_[f][a] / cell_)) +
+                                               (std::int64_t(1) << 20)) & ((std::int64_t(1) << 21) - 1));
+    keyed[f] = {key, f};
+  }
+  std::sort(keyed.begin(), keyed.end());
+  cell_key_.resize(faces);
+  cell_face_.resize(faces);
+  for (index_t i = 0; i < faces; ++i) {
+    cell_key_[i] = keyed[i].first;
+    cell_face_[i] = keyed[i].second;
+  }
+}
+
+void CrackField::build_border() {
+  const index_t nodes = m_.topo.node_count, faces = m_.topo.face_count;
+  border_next_.assign(nodes, -1);
+  border_prev_.assign(nodes, -1);
+  border_torn_.assign(nodes, 0);
+  for (index_t f = 0; f < faces; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const index_t e = m_.topo.face_edges[3 * f + k];
+      if (m_.topo.edge_faces[2 * e + 1] >= 0) continue;
+      const index_t a = m_.face_nodes[3 * f + (k + 1) % 3], b = m_.face_nodes[3 * f + (k + 2) % 3];
+      border_next_[a] = b;
+      border_prev_[b] = a;
+      border_torn_[a] = m_.corner_torn.empty() ? 1 : m_.corner_torn[3 * f + (k + 1) % 3];
+      border_edges_.push_back(e);
+    }
+  std::sort(border_edges_.begin(), border_edges_.end());
+  for (index_t n = 0; n < nodes; ++n)
+    if (border_next_[n] >= 0 && border_prev_[n] >= 0 && node_angle_[n] > 1.5 * pi) tips_.push_back(n);
+  // Seams: inner edges whose two faces give a shared node different UVs.
+  edge_seam_.assign(m_.topo.edge_count, 0);
+  if (m_.corner_uv.empty() || options_.seam_strength == 1) return;
+  const auto uv_of = [&](index_t f, index_t n, double* uv) {
+    for (int k = 0; k < 3; ++k)
+      if (m_.face_nodes[3 * f + k] == n) {
+        uv[0] = m_.corner_uv[6 * f + 2 * k];
+        uv[1] = m_.corner_uv[6 * f + 2 * k + 1];
+      }
+  };
+  for (index_t e = 0; e < m_.topo.edge_count; ++e) {
+    const index_t f = m_.topo.edge_faces[2 * e], g = m_.topo.edge_faces[2 * e + 1];
+    if (g < 0) continue;
+    for (int j = 0; j < 2; ++j) {
+      const index_t n = m_.topo.edge_nodes[2 * e + j];
+      double a[2] = {0, 0}, b[2] = {0, 0};
+      uv_of(f, n, a);
+      uv_of(g, n, b);
+      if (std::abs(a[0] - b[0]) + std::abs(a[1] - b[1]) > 1e-6) edge_seam_[e] = 1;
+    }
+  }
+}
+
+std::vector<double> CrackField::face_tensors(const std::vector<float>& node_pos) const {
+  const index_t faces = m_.topo.face_count;
+  std::vector<double> T(6 * std::size_t(faces), 0.0);
+  for (index_t f = 0; f < faces; ++f) {
+    Vec3 X[3], x[3];
+    for (int k = 0; k < 3; ++k) {
+      const index_t n = m_.face_nodes[3 * f + k];
+      X[k] = rest(n);
+      x[k] = {node_pos[3 * n], node_pos[3 * n + 1], node_pos[3 * n + 2]};
+    }
+    const Vec3 E1 = sub(X[1], X[0]), E2 = sub(X[2], X[0]), e1 = sub(x[1], x[0]), e2 = sub(x[2], x[0]);
+    const double l1 = norm(E1);
+    if (!(l1 > 0)) continue;
+    const Vec3 u = scale(E1, 1 / l1);
+    const double a = dot(E2, u);
+    const Vec3 w = sub(E2, scale(u, a));
+    const double h = norm(w);
+    if (!(h > 1e-12 * l1)) continue;
+    const Vec3 v = scale(w, 1 / h);
+    const Vec3 f1 = scale(e1, 1 / l1), f2 = scale(sub(e2, scale(e1, a / l1)), 1 / h);
+    const double c11 = dot(f1, f1), c12 = dot(f1, f2), c22 = dot(f2, f2);
+    double* t = &T[6 * std::size_t(f)];
+    const int I[6] = {0, 1, 2, 0, 0, 1}, J[6] = {0, 1, 2, 1, 2, 2};
+    for (int s = 0; s < 6; ++s)
+      t[s] = c11 * u[I[s]] * u[J[s]] + c22 * v[I[s]] * v[J[s]] + c12 * (u[I[s]] * v[J[s]] + v[I[s]] * u[J[s]]);
+  }
+  return T;
+}
+
+void CrackField::smoothed(const Vec3& p, const std::vector<double>& T, double* S, double* strength) const {
+  double r = radius_;
+  for (int attempt = 0; attempt < 4; ++attempt, r *= 2) {
+    double area = 0, s = 0, sum[6] = {0, 0, 0, 0, 0, 0};
+    faces_near(p, r, [&](index_t f) {
+      const double A = face_area_[f];
+      area += A;
+      s += A * (m_.face_strength.empty() ? 1.0 : m_.face_strength[f]);
+      for (int k = 0; k < 6; ++k) sum[k] += A * T[6 * std::size_t(f) + k];
+    });
+    if (area > 0) {
+      for (int k = 0; k < 6; ++k) S[k] = sum[k] / area;
+      *strength = s / area;
+      return;
+    }
+  }
+  for (int k = 0; k < 6; ++k) S[k] = 0;
+  *strength = 1;
+}
+
+CrackField::Vec3 CrackField::thread_direction(index_t f, double du, double dv) const {
+  // The rest-space direction of UV direction (du, dv) in face f: E = J * U, J = E * U^-1.
+  const float* uv = &m_.corner_uv[6 * std::size_t(f)];
+  const double u1 = uv[2] - uv[0], v1 = uv[3] - uv[1], u2 = uv[4] - uv[0], v2 = uv[5] - uv[1];
+  const double det = u1 * v2 - u2 * v1;
+  if (!(std::abs(det) > 1e-300)) return {0, 0, 0};
+  const Vec3 X0 = rest(m_.face_nodes[3 * f]);
+  const Vec3 E1 = sub(rest(m_.face_nodes[3 * f + 1]), X0), E2 = sub(rest(m_.face_nodes[3 * f + 2]), X0);
+  // U^-1 (du, dv): the coefficients of E1 and E2.
+  const double a = (v2 * du - u2 * dv) / det, b = (-v1 * du + u1 * dv) / det;
+  return unit(add(scale(E1, a), scale(E2, b)));
+}
+
+bool CrackField::nearest_border(const Vec3& p, const Vec3* d, double reach, index_t from, Vec3& point,
+                                index_t& edge) const {
+  // The border right at `from` (the flanks of its own slit, half a radius each way) is left out;
+  // the rest of its slit lies behind it, which the test "ahead along d" leaves out.
+  std::vector<index_t> own;
+  if (from >= 0) {
+    own.push_back(from);
+    for (const auto* step : {&border_next_, &border_prev_}) {
+      double walked = 0;
+      index_t n = from;
+      for (index_t i = 0; i < m_.topo.node_count && walked < 0.5 * options_.radius; ++i) {
+        const index_t next = (*step)[n];
+        if (next < 0 || next == from) break;
+        walked += norm(sub(rest(next), rest(n)));
+        n = next;
+        own.push_back(n);
+      }
+    }
+    std::sort(own.begin(), own.end());
+  }
+  const auto is_own = [&](index_t n) { return std::binary_search(own.begin(), own.end(), n); };
+  double best = reach;
+  bool found = false;
+  for (index_t e : border_edges_) {
+    const index_t a = m_.topo.edge_nodes[2 * e], b = m_.topo.edge_nodes[2 * e + 1];
+    if (is_own(a) && is_own(b)) continue;
+    const Vec3 A = rest(a), B = rest(b), AB = sub(B, A);
+    const double t = std::max(0.0, std::min(1.0, dot(sub(p, A), AB) / std::max(dot(AB, AB), 1e-300)));
+    const Vec3 q = add(A, scale(AB, t));
+    const double dist = norm(sub(q, p));
+    if (d && dot(sub(q, p), *d) < 0.25 * dist) continue;
+    if (dist < best || (dist == best && found && e < edge)) {
+      best = dist;
+      point = q;
+      edge = e;
+      found = true;
+    }
+  }
+  return found;
+}
+
+double CrackField::piece_cut_off(index_t tip, const Vec3& point, index_t edge) const {
+  const index_t a = m_.topo.edge_nodes[2 * edge], b = m_.topo.edge_nodes[2 * edge + 1];
+  // The side from `tip` along the border to the edge, closed through `point`; then the other side.
+  const auto side = [&](index_t from, index_t until_a, index_t until_b, bool starts_at_point) {
+    Vec3 sum{0, 0, 0};
+    std::vector<Vec3> poly;
+    if (starts_at_point) poly.push_back(point);
+    index_t n = from;
+    for (index_t i = 0; i <= m_.topo.node_count; ++i) {
+      poly.push_back(rest(n));
+      if (n == until_a || n == until_b) break;
+      n = border_next_[n];
+      if (n < 0 || (n == from && i > 0)) return -1.0;  // another loop: nothing is cut off
+    }
+    if (!starts_at_point) poly.push_back(point);
+    for (std::size_t i = 0; i < poly.size(); ++i) sum = add(sum, cross(poly[i], poly[(i + 1) % poly.size()]));
+    return 0.5 * norm(sum);
+  };
+  const double one = side(tip, a, b, false);
+  if (one < 0) return std::numeric_limits<double>::infinity();
+  // The other side starts after the edge (at whichever of its nodes follows the other on the border).
+  const index_t after = border_next_[a] == b ? b : a;
+  const double two = side(after, tip, tip, true);
+  if (two < 0) return std::numeric_limits<double>::infinity();
+  return std::min(one, two);
+}
+
+}  // namespace tear
