@@ -33,6 +33,10 @@ struct Mesh {
   std::vector<float> node_origin_bary;
   /// [torn_edge_count * 2] node pairs: the boundary edges that lie on a cut or tear of this run.
   std::vector<index_t> torn_edge_nodes;
+  /// [face_count] the id of the connected piece each face is in, stable through the run (docs/identity.md,
+  /// *Pieces*): numbered in order of their lowest face at the start; when a piece splits, the part with
+  /// the largest rest area keeps its id and the others take the next unused ids.
+  std::vector<index_t> face_piece;
 
   index_t node_count() const { return static_cast<index_t>(node_pos.size() / 3); }
   index_t face_count() const { return static_cast<index_t>(face_nodes.size() / 3); }
@@ -40,6 +44,7 @@ struct Mesh {
   bool has_normals() const { return !corner_normal.empty(); }
   bool has_velocities() const { return !node_vel.empty(); }
   bool has_origins() const { return !node_origin_face.empty(); }
+  bool has_pieces() const { return !face_piece.empty() && face_piece.size() == face_nodes.size() / 3; }
 };
 
 }  // namespace tear
