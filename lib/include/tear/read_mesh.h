@@ -21,6 +21,11 @@ struct ReadOptions {
   /// Weld the file's vertices into nodes: by id when the file carries ids (tear's own PLY and
   /// glTF/GLB), else by position. false: every vertex a face uses is a node of its own.
   bool weld = true;
+  /// Nodes as the file writes them, for comparing files (`tear diff`): vertex i is node i. Where the
+  /// file carries ids (tear's PLY and glTF/GLB), the copies written after the nodes (at UV seams)
+  /// rejoin their node; nothing is welded by position (a torn OBJ frame stays torn), and nodes no
+  /// face uses, and faces that repeat a node, are kept. `weld` and `weld_tolerance` are not used.
+  bool as_written = false;
 };
 
 /// Reads OBJ, PLY, glTF/GLB (tear's own readers) or anything else assimp reads (docs/io.md).
