@@ -19,6 +19,7 @@
 #include "cloth/face_pieces.h"
 #include "tear/cloth.h"
 #include "tear/device.h"
+#include "tear/usd_layer.h"
 #include "tear/write_mesh.h"
 #include "test_support.h"
 
@@ -149,6 +150,22 @@ std::vector<index_t> glb_pieces(const std::string& bytes) {
   return pieces;
 }
 
+/// The last time sample of `primvars:piece` in a USDA layer, and its interpolation.
+std::vector<index_t> usd_pieces(const std::string& text) {
+  const std::size_t declared = text.find("int[] primvars:piece (");
+  REQUIRE(declared != std::string::npos);
+  CHECK(text.find("interpolation = \"uniform\"", declared) < text.find(".timeSamples", declared));
+  const std::size_t samples = text.find("int[] primvars:piece.timeSamples");
+  REQUIRE(samples != std::string::npos);
+  const std::size_t close = text.find("    }\n", samples);
+  const std::size_t open = text.rfind(": [", close);
+  std::vector<index_t> pieces;
+  std::istringstream values(text.substr(open + 3, text.find(']', open) - open - 3));
+  std::string value;
+  while (std::getline(values, value, ',')) pieces.push_back(std::stoi(value));
+  return pieces;
+}
+
 }  // namespace
 
 TEST_CASE("pieces: numbered by lowest face, renumbered after a split by rest area", "[pieces]") {
@@ -208,7 +225,7 @@ TEST_CASE("pieces: a sheet split twice keeps its ids, through a checkpoint too",
   CHECK(resumed.piece_count() == 3);
 }
 
-TEST_CASE("pieces: PLY and GLB frames carry the same pieces", "[pieces][io]") {
+TEST_CASE("pieces: PLY, GLB and USD frames carry the same pieces", "[pieces][io]") {
   tear::Cloth cloth(tear::test::regular_sheet(), tear::test::test_device());
   cloth.cut({first_cut});
   cloth.cut({second_cut});
@@ -226,6 +243,7 @@ TEST_CASE("pieces: PLY and GLB frames carry the same pieces", "[pieces][io]") {
   REQUIRE(ply_vertex.size() >= node_piece.size());
   CHECK(std::vector<index_t>(ply_vertex.begin(), ply_vertex.begin() + m.node_count()) == node_piece);
   CHECK(glb_vertex == ply_vertex);
+  CHECK(usd_pieces(tear::usda_layer_text(m, 1)) == m.face_piece);
 }
 
 TEST_CASE("pieces: tear run reports the pieces of every frame", "[pieces][cli]") {

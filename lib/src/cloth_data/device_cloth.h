@@ -117,7 +117,7 @@ struct DeviceCloth {
     using R = Role;
     // clang-format off
     f(Attribute<index_t>{"face_nodes", E::face, 3, C::written, R::model, false, &Mesh::face_nodes}, c.face_nodes);
-    f(Attribute<float>{"node_rest", E::node, 3, C::interpolate, R::model, false, nullptr}, c.node_rest);
+    f(Attribute<float>{"node_rest", E::node, 3, C::interpolate, R::model, false, &Mesh::node_rest}, c.node_rest);
     f(Attribute<float>{"corner_uv", E::corner, 2, C::interpolate, R::model, true, &Mesh::corner_uv}, c.corner_uv);
     f(Attribute<float>{"corner_normal", E::corner, 3, C::unit, R::model, true, &Mesh::corner_normal}, c.corner_normal);
     f(Attribute<float>{"node_pos", E::node, 3, C::interpolate, R::state, false, &Mesh::node_pos}, c.node_pos);
