@@ -10,8 +10,13 @@ all with `--start-frame 1001`, then checks every time sample of the layer:
 
 - the stage: default prim /cloth, a UsdGeom.Mesh; start/end time codes 1001 and the last frame;
   timeCodesPerSecond and framesPerSecond the simulation's fps; upAxis Y; metersPerUnit 1;
-- each sample: UsdGeom.Mesh.ValidateTopology; as many velocities as points; `st`, `normals` and
-  `tear_edge` faceVarying with one value per corner; `extent` the points' box;
+- each sample: UsdGeom.Mesh.ValidateTopology; as many velocities and accelerations as points; `st`
+  and `normals` indexed faceVarying primvars and `tear_edge` faceVarying, one value per corner once
+  flattened; `extent` the points' box; `rest` (vertex) the input's positions for its nodes; `id`
+  (vertex) 0..N-1; `piece` (uniform) one per face, the PLY's face `piece`; accelerations
+  (v_f - v_{f-1}) * fps;
+- what moves (points, velocities, accelerations, extent, normals) is sampled at every frame, the
+  topology and the primvars' indices only at the frames where they change (the cuts' frames);
 - points and faces equal the OBJ frame's `v` and `f` lines (node i is `v` i + 1), and the PLY
   frame's vertices and faces (a PLY vertex is a node with one UV and normal: each must agree with
   the points, normals and UVs of the corners that use it); velocities equal the PLY's `vx vy vz`
@@ -152,6 +157,10 @@ def read_ply(path):
     return out
 
 
+def where_of(frame):
+    return "frame %d: " % frame
+
+
 def edge_faces(indices):
     """{(a, b) unordered: number of faces using the edge}."""
     count = {}
@@ -194,16 +203,40 @@ def main():
     geom = UsdGeom.Mesh(prim)
     primvars = UsdGeom.PrimvarsAPI(prim)
     st, tear_edge = primvars.GetPrimvar("st"), primvars.GetPrimvar("tear_edge")
-    check(st.GetInterpolation() == UsdGeom.Tokens.faceVarying, "st faceVarying")
+    normal_primvar, rest, ids, piece = (primvars.GetPrimvar("normals"), primvars.GetPrimvar("rest"),
+                                        primvars.GetPrimvar("id"), primvars.GetPrimvar("piece"))
+    check(st.GetInterpolation() == UsdGeom.Tokens.faceVarying and st.IsIndexed(), "st indexed faceVarying")
     check(tear_edge.GetInterpolation() == UsdGeom.Tokens.faceVarying, "tear_edge faceVarying")
-    check(geom.GetNormalsInterpolation() == UsdGeom.Tokens.faceVarying, "normals faceVarying")
-    for attribute in (geom.GetPointsAttr(), geom.GetFaceVertexIndicesAttr(), geom.GetFaceVertexCountsAttr(),
-                      geom.GetVelocitiesAttr(), geom.GetNormalsAttr(), geom.GetExtentAttr(), st.GetAttr(),
-                      tear_edge.GetAttr()):
+    check(normal_primvar.GetInterpolation() == UsdGeom.Tokens.faceVarying and normal_primvar.IsIndexed(),
+          "normals an indexed faceVarying primvar")
+    check(rest.GetInterpolation() == UsdGeom.Tokens.vertex and rest.GetTypeName() == Sdf.ValueTypeNames.Point3fArray,
+          "rest a vertex point3f primvar")
+    check(ids.GetInterpolation() == UsdGeom.Tokens.vertex and ids.GetTypeName() == Sdf.ValueTypeNames.IntArray,
+          "id a vertex int primvar")
+    check(piece.GetInterpolation() == UsdGeom.Tokens.uniform and piece.GetTypeName() == Sdf.ValueTypeNames.IntArray,
+          "piece a uniform int primvar")
+    accelerations = geom.GetPrim().GetAttribute("accelerations")
+    check(accelerations.IsValid() and accelerations.GetTypeName() == Sdf.ValueTypeNames.Vector3fArray,
+          "accelerations a vector3f[]")
+    for attribute in (geom.GetPointsAttr(), geom.GetVelocitiesAttr(), accelerations, geom.GetExtentAttr(),
+                      normal_primvar.GetAttr()):
         check(attribute.GetTimeSamples() == [float(n) for n in numbers],
               "%s sampled at every frame: %s" % (attribute.GetName(), attribute.GetTimeSamples()))
+    # The cuts' frames (and the first): where the topology and the indices change.
+    changes = [float(START), float(START + FIRST_CUT - 1), float(START + 4)]
+    for attribute in (geom.GetFaceVertexIndicesAttr(), geom.GetFaceVertexCountsAttr(), st.GetIndicesAttr(),
+                      tear_edge.GetAttr(), piece.GetAttr(), ids.GetAttr()):
+        check(attribute.GetTimeSamples() == changes,
+              "%s sampled where it changes %s: %s" % (attribute.GetName(), changes, attribute.GetTimeSamples()))
+    # A normal's indices change with the topology, and where a node's corners stop or start sharing
+    # one normal (a face of no area).
+    normal_indices = normal_primvar.GetIndicesAttr().GetTimeSamples()
+    check(set(changes) <= set(normal_indices) and len(normal_indices) < len(numbers),
+          "normals:indices sampled where they change: %s" % normal_indices)
+    input_points, _ = read_obj(mesh)
 
     previous_points = None
+    previous_velocities = None
     input_border = None
     ply_has_velocities = None
     for i, frame in enumerate(numbers):
@@ -211,8 +244,15 @@ def main():
         indices = list(geom.GetFaceVertexIndicesAttr().Get(frame))
         counts = list(geom.GetFaceVertexCountsAttr().Get(frame))
         velocities = [tuple(v) for v in geom.GetVelocitiesAttr().Get(frame)]
-        normals = [tuple(n) for n in geom.GetNormalsAttr().Get(frame)]
-        uvs = [tuple(t) for t in st.Get(frame)]
+        normals = [tuple(n) for n in normal_primvar.ComputeFlattened(frame)]
+        uvs = [tuple(t) for t in st.ComputeFlattened(frame)]
+        rests = [tuple(p) for p in rest.Get(frame)]
+        check(len(rests) == len(points) and rests[:len(input_points)] == input_points,
+              where_of(frame) + "rest: the input's positions for its nodes")
+        check(list(ids.Get(frame)) == list(range(len(points))), where_of(frame) + "id 0..N-1")
+        frame_accelerations = [tuple(a) for a in accelerations.Get(frame)]
+        check(len(frame_accelerations) == len(points), where_of(frame) + "one acceleration per point")
+        pieces = list(piece.Get(frame))
         marks = list(tear_edge.Get(frame))
         where = "frame %d: " % frame
         valid, why = UsdGeom.Mesh.ValidateTopology(indices, counts, len(points))
@@ -251,6 +291,7 @@ def main():
                 if "vx" in vertex:
                     ply_ok &= (vertex["vx"], vertex["vy"], vertex["vz"]) == velocities[node]
         check(ply_ok, where + "the PLY's vertices (positions, normals, UVs, ids, velocities) equal the layer's")
+        check([face["piece"] for face in faces] == pieces, where + "piece equals the PLY's face piece")
         check(len(set(vertex_node.values())) == len(points), where + "every point is a PLY vertex")
         ply_has_velocities = "vx" in vertices[0]
 
@@ -263,6 +304,15 @@ def main():
                     worst = max(worst, abs(velocities[n][k] - (points[n][k] - before[k]) * FPS))
             check(worst < 1e-4, where + "velocities are the step's (x - x_before) * fps, worst error %g" % worst)
             check(any(v != (0, 0, 0) for v in velocities), where + "the cloth moves")
+            worst = 0.0
+            for n, before in enumerate(previous_velocities):
+                for k in range(3):
+                    want = f32((velocities[n][k] - before[k]) * FPS)
+                    worst = max(worst, abs(frame_accelerations[n][k] - want) / max(1.0, abs(want)))
+            check(worst < 1e-5, where + "accelerations are (v - v_before) * fps, worst error %g" % worst)
+        else:
+            check(all(a == (0, 0, 0) for a in frame_accelerations), where + "no acceleration at the first frame")
+        previous_velocities = velocities
 
         # tear_edge: boundary edges made by the cuts only.
         edges = edge_faces(indices)

@@ -467,8 +467,8 @@ std::vector<std::string> state_arrays(const std::string& state, const std::vecto
 TEST_CASE("cloth schema: every attribute of the table survives a cut, a checkpoint and a download", "[schema]") {
   // The table (lib/src/cloth_data/device_cloth.h), element sizes in its order: face_nodes,
   // node_rest, corner_uv, corner_normal, node_pos, node_vel, node_pinned, face_origin,
-  // corner_origin, input_face_border, face_strength; then the frame count.
-  const std::vector<std::size_t> sizes = {4, 4, 4, 4, 4, 4, 1, 4, 4, 1, 4, 8};
+  // corner_origin, input_face_border, face_strength, face_piece; then the frame count.
+  const std::vector<std::size_t> sizes = {4, 4, 4, 4, 4, 4, 1, 4, 4, 1, 4, 4, 8};
   const tear::Mesh mesh = sheet(200, true);
   const tear::CutScript script = tear::parse_cut_script(
       R"({"version": 1, "frames": 1, "simulation": {"pins": [{"box": {"min": [-1, 0.9, -1], "max": [2, 2, 1]}}],
@@ -486,7 +486,8 @@ TEST_CASE("cloth schema: every attribute of the table survives a cut, a checkpoi
   const std::vector<std::string> after = state_arrays(saved, sizes);
   // Every array has its element's count on the cut cloth (node, face, corner or input face).
   const std::size_t count[] = {3u * faces, 3u * nodes, 6u * faces, 9u * faces, 3u * nodes, 3u * nodes, std::size_t(nodes),
-                               std::size_t(faces), 9u * faces, std::size_t(mesh.face_count()), std::size_t(faces), 1};
+                               std::size_t(faces), 9u * faces, std::size_t(mesh.face_count()), std::size_t(faces),
+                               std::size_t(faces), 1};
   for (std::size_t a = 0; a < sizes.size(); ++a) {
     INFO("table attribute " << a);
     CHECK(after[a].size() == count[a] * sizes[a]);

@@ -271,3 +271,39 @@ TEST_CASE("tear diff: bad input exits 2 with one line naming the file", "[diff][
   CHECK(run.exit_code == 2);  // no frame at all
   CHECK(run.err.find("x.####.ply") != std::string::npos);
 }
+
+TEST_CASE("tear diff: torn OBJ, PLY and GLB frames of one run compare equal, node for node", "[diff][cli]") {
+  TempDir dir;
+  write_mesh(regular_sheet(), (dir / "sheet.obj").string());
+  const std::string script = std::string(TEAR_SOURCE_DIR) + "/examples/scripts/plane.json";
+  for (const char* pattern : {"f.####.obj", "f.####.ply", "f.####.glb"}) {
+    const auto run = dir.tear("run " + quoted(dir / "sheet.obj") + " " + quoted(fs::path(script)) + " -o " +
+                              quoted(dir / pattern) + " --progress none");
+    REQUIRE(run.exit_code == 0);
+  }
+  // The torn frame's OBJ is not welded: its two sides of the tear stay two nodes, as in the PLY.
+  for (const char* pair : {"f.####.obj f.####.ply", "f.####.obj f.####.glb", "f.####.ply f.####.glb"}) {
+    std::string a = pair, b = a.substr(a.find(' ') + 1);
+    a.resize(a.find(' '));
+    const auto run = dir.tear("diff " + quoted(dir / a) + " " + quoted(dir / b));
+    INFO(pair << ": " << run.out << run.err);
+    CHECK(run.exit_code == 0);
+    CHECK(run.out.empty());
+  }
+}
+
+TEST_CASE("tear diff: a node no face uses still counts", "[diff][cli]") {
+  TempDir dir;
+  const Mesh a = regular_sheet();
+  Mesh b = a;
+  b.node_pos.insert(b.node_pos.end(), {2.f, 2.f, 0.f});  // an extra node, used by no face
+  for (const char* ext : {"obj", "ply", "glb"}) {
+    write_mesh(a, (dir / ("a." + std::string(ext))).string());
+    write_mesh(b, (dir / ("b." + std::string(ext))).string());
+    const auto run = dir.tear("diff " + quoted(dir / ("a." + std::string(ext))) + " " +
+                              quoted(dir / ("b." + std::string(ext))));
+    INFO(ext << ": " << run.out << run.err);
+    CHECK(run.exit_code == 5);
+    CHECK(run.out.find("node count 121 vs 122") != std::string::npos);
+  }
+}

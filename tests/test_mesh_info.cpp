@@ -239,6 +239,7 @@ TEST_CASE("mesh_info: json has exactly the documented keys", "[info]") {
                                           "boundary_edges",
                                           "boundary_loops",
                                           "components",
+                                          "pieces",
                                           "euler_characteristic",
                                           "non_manifold_edges",
                                           "non_manifold_nodes",

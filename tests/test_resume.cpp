@@ -6,6 +6,8 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <regex>
+#include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
@@ -173,7 +175,21 @@ TEST_CASE("resume: --progress lines prints one parsable line per frame", "[resum
   const tear::test::Run run = dir.tear("run " + tear::test::quoted(dir / "sheet.obj") + " " + tear::test::quoted(script) +
                                        " -o " + tear::test::quoted(dir / "f.####.obj") + " --progress lines");
   REQUIRE(run.exit_code == 0);
-  CHECK(run.err == "frame 1/4 (25%)\nframe 2/4 (50%)\nframe 3/4 (75%)\nframe 4/4 (100%)\n");
+  CHECK(run.err ==
+        "frame 1/4 (25%) Progress: 25%\nframe 2/4 (50%) Progress: 50%\nframe 3/4 (75%) Progress: 75%\n"
+        "frame 4/4 (100%) Progress: 100%\n");
+  // The expressions docs/cli.md gives the farm managers match every line.
+  const std::regex deadline(R"(Progress: (\d+)%)"), full(R"(^frame (\d+)/(\d+) \((\d+)%\) Progress: (\d+)%$)");
+  std::istringstream lines(run.err);
+  std::string line;
+  int count = 0;
+  while (std::getline(lines, line)) {
+    std::smatch m;
+    REQUIRE(std::regex_search(line, m, deadline));
+    CHECK(std::stoi(m[1]) == 25 * ++count);
+    CHECK(std::regex_match(line, full));
+  }
+  CHECK(count == 4);
 }
 
 TEST_CASE("resume: a single USD layer cannot be checkpointed, one layer per frame can", "[resume]") {

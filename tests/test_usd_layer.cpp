@@ -120,6 +120,16 @@ TEST_CASE("usd_layer: the header's example, a triangle cut through a corner in f
   CHECK(samples_of(text, "primvars:st") ==
         std::vector<std::string>{"1: [(0, 0), (1, 0), (0, 1)],",
                                  "2: [(0.5, 0.5), (0, 1), (0, 0), (0, 0), (1, 0), (0.5, 0.5)],"});
+  CHECK(samples_of(text, "primvars:st:indices") == std::vector<std::string>{"1: [0, 1, 2],", "2: [0, 1, 2, 3, 4, 5],"});
+  CHECK(samples_of(text, "primvars:id") == std::vector<std::string>{"1: [0, 1, 2],", "2: [0, 1, 2, 3, 4, 5],"});
+  CHECK(samples_of(text, "primvars:rest") == samples_of(text, "points"));  // no simulation: the rest shape
+  CHECK(samples_of(text, "primvars:piece") == std::vector<std::string>{"1: [0],", "2: [0, 1],"});
+  CHECK(samples_of(text, "accelerations") ==
+        std::vector<std::string>{"1: [(0, 0, 0), (0, 0, 0), (0, 0, 0)],",
+                                 "2: [(0, 0, 0), (0, 0, 0), (0, 0, 0), (0, 0, 0), (0, 0, 0), (0, 0, 0)],"});
+  CHECK(text.find("    point3f[] primvars:rest (\n        interpolation = \"vertex\"\n    )\n") != std::string::npos);
+  CHECK(text.find("    int[] primvars:id (\n        interpolation = \"vertex\"\n    )\n") != std::string::npos);
+  CHECK(text.find("    int[] primvars:piece (\n        interpolation = \"uniform\"\n    )\n") != std::string::npos);
   // Node 3 is node 0's copy, 4 and 5 the two sides of the cut edge's point: 3 -> 4 and 5 -> 0.
   CHECK(samples_of(text, "primvars:tear_edge") == std::vector<std::string>{"1: [0, 0, 0],", "2: [0, 0, 1, 0, 0, 1],"});
   CHECK(text.find("    texCoord2f[] primvars:st (\n        interpolation = \"faceVarying\"\n    )\n") !=
@@ -204,12 +214,20 @@ TEST_CASE("usd_layer: samples stream to temporaries beside the layer, renamed wh
   CHECK(line_starting(text, "endTimeCode") == "endTimeCode = 1004");
   CHECK(line_starting(text, "framesPerSecond") == "framesPerSecond = 30");
   CHECK(line_starting(text, "timeCodesPerSecond") == "timeCodesPerSecond = 30");
-  for (const char* name : {"faceVertexCounts", "faceVertexIndices", "points", "velocities", "extent", "normals",
-                           "primvars:st", "primvars:tear_edge"}) {
+  // What moves at every time code; the rest only where it changes: the cuts of frames 2 and 3.
+  for (const char* name : {"points", "velocities", "accelerations", "extent", "primvars:normals"}) {
     INFO(name);
     const std::vector<std::string> samples = samples_of(text, name);
     REQUIRE(samples.size() == 4);
     for (int i = 0; i < 4; ++i) CHECK(samples[i].rfind(std::to_string(1001 + i) + ": [", 0) == 0);
+  }
+  for (const char* name : {"faceVertexCounts", "faceVertexIndices", "primvars:normals:indices", "primvars:st",
+                           "primvars:st:indices", "primvars:tear_edge", "primvars:piece", "primvars:rest",
+                           "primvars:id"}) {
+    INFO(name);
+    const std::vector<std::string> samples = samples_of(text, name);
+    REQUIRE(samples.size() == 3);
+    for (int i = 0; i < 3; ++i) CHECK(samples[i].rfind(std::to_string(1001 + i) + ": [", 0) == 0);
   }
   // No torn edge before the first cut; some after it.
   CHECK(samples_of(text, "primvars:tear_edge")[0].find('1', 6) == std::string::npos);
@@ -369,4 +387,35 @@ TEST_CASE("demo: -o with a .usda writes one layer, with a frame pattern the fram
   const Run folder = dir.tear("demo --frames 1 --start-frame 1001 -o " + quoted(dir / "folder") + device);
   REQUIRE(folder.exit_code == 0);
   CHECK(file_names(dir / "folder") == std::vector<std::string>{"demo.1001.obj"});
+}
+
+TEST_CASE("usd_layer: accelerations from the frame before, and held values written again before a change", "[usd]") {
+  TempDir dir;
+  Mesh mesh;
+  mesh.node_pos = {0, 0, 0, 1, 0, 0, 0, 1, 0};
+  mesh.face_nodes = {0, 1, 2};
+  mesh.corner_uv = {0, 0, 1, 0, 0, 1};
+  mesh.node_vel = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+  tear::UsdLayerOptions options;
+  options.frames_per_second = 24;
+  UsdLayer layer(tear::FramePattern((dir / "a.usda").string()), options);
+  layer.write(1, mesh);
+  mesh.node_vel = {1, 2, 3, 0, 0, 0, 0, 0, -1};
+  layer.write(2, mesh);
+  layer.write(3, mesh);
+  mesh.corner_uv[0] = 0.5f;  // the UVs change at frame 4 only
+  layer.write(4, mesh);
+  layer.finish();
+  const std::string text = read_bytes(dir / "a.usda");
+  CHECK(samples_of(text, "accelerations") ==
+        std::vector<std::string>{"1: [(0, 0, 0), (0, 0, 0), (0, 0, 0)],", "2: [(24, 48, 72), (0, 0, 0), (0, 0, -24)],",
+                                 "3: [(0, 0, 0), (0, 0, 0), (0, 0, 0)],", "4: [(0, 0, 0), (0, 0, 0), (0, 0, 0)],"});
+  // USD interpolates UVs between samples: the value held over frames 1-3 is written at 3 too.
+  CHECK(samples_of(text, "primvars:st") == std::vector<std::string>{"1: [(0, 0), (1, 0), (0, 1)],",
+                                                                    "3: [(0, 0), (1, 0), (0, 1)],",
+                                                                    "4: [(0.5, 0), (1, 0), (0, 1)],"});
+  // Integers are held, never interpolated: written where they change only.
+  CHECK(samples_of(text, "faceVertexIndices") == std::vector<std::string>{"1: [0, 1, 2],"});
+  CHECK(samples_of(text, "primvars:st:indices") == std::vector<std::string>{"1: [0, 1, 2],"});
+  CHECK(samples_of(text, "points").size() == 4);
 }

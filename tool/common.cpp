@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "tear/device.h"
 #include "tear/error.h"
 #include "tear/input_file.h"
 #include "tear/usd_layer.h"
@@ -46,6 +47,14 @@ std::string plural(std::int64_t n, const char* one, const char* many) {
 CLI::Validator finite_non_negative() { return CLI::Validator(check_finite_non_negative, ""); }
 
 CLI::Option* add_device_option(CLI::App& command, std::string& spec) {
+  // The CPU backend's threads: with every command that runs on a device (docs/cli.md, *Threads*).
+  command
+      .add_option_function<int>(
+          "--threads", [](const int& threads) { tear::set_cpu_threads(threads); },
+          "Most CPU threads the CPU backend and the frame writers use (default: OMP_NUM_THREADS, else "
+          "SLURM_CPUS_PER_TASK, else every hardware thread)")
+      ->type_name("N")
+      ->check(CLI::Range(1, 4096));
   return command
       .add_option("--device", spec,
                   "Backend that runs the kernels: 'auto' (a CUDA GPU when one is usable, else the CPU), 'cpu', "

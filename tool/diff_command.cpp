@@ -76,8 +76,10 @@ void run_diff(const DiffCommandOptions& options) {
     if (!pair.has_a || !pair.has_b) {
       what = "missing in " + std::string(pair.has_a ? "b (" + pair.b : "a (" + pair.a) + ")";
     } else {
-      // Read as `tear run` reads them: by id for tear's PLY and GLB, by position otherwise.
-      const Mesh a = read_mesh(pair.a, options.read), b = read_mesh(pair.b, options.read);
+      // As written, node for node: a torn OBJ frame is not welded, an unused node still counts.
+      ReadOptions as_written = options.read;
+      as_written.as_written = true;
+      const Mesh a = read_mesh(pair.a, as_written), b = read_mesh(pair.b, as_written);
       const MeshDiff diff = diff_meshes(a, b, options.diff);
       ++compared;
       largest.max_position = std::max(largest.max_position, diff.max_position);

@@ -57,7 +57,7 @@ void add_farm_options(CLI::App& command, FarmOptions& options) {
                    "(exit 2 when not); start from the first frame when it does not exist");
   command
       .add_option("--progress", options.progress,
-                  "Progress on standard error: 'bar', 'lines' (one line per frame: 'frame 12/48 (25%)'), 'none', "
+                  "Progress on standard error: 'bar', 'lines' (one line per frame: 'frame 12/48 (25%) Progress: 25%'), 'none', "
                   "or 'auto' (the bar on a terminal, nothing otherwise)")
       ->type_name("auto|bar|lines|none")
       ->check(CLI::IsMember({"auto", "bar", "lines", "none"}))
@@ -87,7 +87,9 @@ FrameProgress::FrameProgress(const std::string& mode, int total)
 void FrameProgress::frame(int done, const std::string& detail) {
   if (bar_) bar_->update(done, detail);
   if (lines_) {
-    std::fprintf(stderr, "frame %d/%d (%d%%)\n", done, total_, static_cast<int>(100LL * done / total_));
+    // `Progress: P%`: the token farm managers' progress handlers look for (docs/cli.md, *Progress*).
+    const int percent = static_cast<int>(100LL * done / total_);
+    std::fprintf(stderr, "frame %d/%d (%d%%) Progress: %d%%\n", done, total_, percent, percent);
     std::fflush(stderr);
   }
 }

@@ -59,6 +59,7 @@ void print_human(std::ostream& out, const std::string& path, Device device, cons
       {"boundary edges", std::to_string(info.boundary_edges)},
       {"boundary loops", std::to_string(info.boundary_loops)},
       {"components", std::to_string(info.components)},
+      {"pieces", std::to_string(info.pieces)},
       {"euler characteristic", std::to_string(info.euler_characteristic)},
       {"non-manifold edges", count_why(info.non_manifold_edges, "more than two faces on one edge")},
       {"bow-tie nodes", count_why(info.non_manifold_nodes, "faces around the node form several fans")},

@@ -1,7 +1,11 @@
 // The `tear` command line: the app, its subcommands, and the one place where exceptions become
 // exit codes (0 ok, 1 usage, 2 bad input, 3 runtime failure, 4 interrupted, 5 meshes differ) and one-line messages.
+#include <cstdlib>
+#include <cstring>
 #include <iostream>
 #include <string>
+
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 
@@ -23,9 +27,30 @@ std::string help_hint(const CLI::App& app) {
   return " (see '" + command + " --help')";
 }
 
+/// A good neighbour on a shared node (docs/cli.md, *Threads*): waiting OpenMP threads sleep
+/// (`OMP_WAIT_POLICY=PASSIVE`) rather than spin, and a Slurm job's CPUs bound the threads
+/// (`SLURM_CPUS_PER_TASK` as `OMP_NUM_THREADS`); what the environment sets already is kept. The
+/// OpenMP runtime reads its environment once, when it is loaded, before `main` (and before any
+/// constructor of the program's own), so when something is to be set the program sets it and
+/// starts itself again, as the same process (`execv`); if that fails it goes on as it is.
+void set_openmp_environment(char** argv) {
+  bool again = false;
+  if (!std::getenv("OMP_WAIT_POLICY")) {
+    setenv("OMP_WAIT_POLICY", "PASSIVE", 1);
+    again = true;
+  }
+  const char* slurm = std::getenv("SLURM_CPUS_PER_TASK");
+  if (slurm && *slurm && std::strspn(slurm, "0123456789") == std::strlen(slurm) && !std::getenv("OMP_NUM_THREADS")) {
+    setenv("OMP_NUM_THREADS", slurm, 1);
+    again = true;
+  }
+  if (again) execv("/proc/self/exe", argv);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  set_openmp_environment(argv);
   tear::cli::install_stop_handlers();  // SIGTERM and SIGINT end in exit 4 from here on
   CLI::App app{"Cut and tear triangle cloth meshes on the GPU (or the CPU).", "tear"};
   app.set_version_flag("--version", "tear " TEAR_VERSION, "Print the version and exit");

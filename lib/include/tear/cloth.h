@@ -146,6 +146,9 @@ class Cloth {
   /// own, beside the cloth's later work). `corner_normals` false leaves `corner_normal` empty, for a
   /// writer that computes them again.
   PendingMesh mesh_later(bool corner_normals = true) const;
+  /// The number of connected pieces of the cloth now (their ids, `Mesh::face_piece`, are 0 .. count - 1;
+  /// docs/identity.md, *Pieces*).
+  index_t piece_count() const;
   /// Whether the cloth carries per-corner normals (the mesh it was made from had them).
   bool has_corner_normals() const;
   std::vector<index_t> face_nodes() const;  ///< [face_count * 3]

@@ -46,6 +46,12 @@ std::string device_name(Device device);
 /// Waits until the work queued on `device` is done (the CUDA backend queues without waiting).
 void synchronize(Device device);
 
+/// Limits the CPU backend's OpenMP teams made from this thread, and the frame writers it starts
+/// (tear/frame_writer.h, the USD layer's writer), to `threads` (>= 1); what `--threads N` does.
+/// Without it the limit is OpenMP's: `OMP_NUM_THREADS`, else the hardware threads (the `tear`
+/// program turns a Slurm job's `SLURM_CPUS_PER_TASK` into `OMP_NUM_THREADS`, docs/cli.md).
+void set_cpu_threads(int threads);
+
 /// Memory held by tear's arrays on a backend now, and the most held since the last
 /// `reset_memory_peak`, in bytes: GPU memory for Device::cuda (arrays and cached scratch buffers);
 /// host memory of the CPU backend's arrays for Device::cpu (without Thrust's short-lived scratch

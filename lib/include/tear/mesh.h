@@ -33,6 +33,13 @@ struct Mesh {
   std::vector<float> node_origin_bary;
   /// [torn_edge_count * 2] node pairs: the boundary edges that lie on a cut or tear of this run.
   std::vector<index_t> torn_edge_nodes;
+  /// [face_count] the id of the connected piece each face is in, stable through the run (docs/identity.md,
+  /// *Pieces*): numbered in order of their lowest face at the start; when a piece splits, the part with
+  /// the largest rest area keeps its id and the others take the next unused ids.
+  std::vector<index_t> face_piece;
+  /// [node_count * 3] or empty: the rest (unstretched, uncut-into) positions, metres; a frame of a
+  /// `tear::Cloth` carries them (the USD layer's `primvars:rest`).
+  std::vector<float> node_rest;
 
   index_t node_count() const { return static_cast<index_t>(node_pos.size() / 3); }
   index_t face_count() const { return static_cast<index_t>(face_nodes.size() / 3); }
@@ -40,6 +47,8 @@ struct Mesh {
   bool has_normals() const { return !corner_normal.empty(); }
   bool has_velocities() const { return !node_vel.empty(); }
   bool has_origins() const { return !node_origin_face.empty(); }
+  bool has_rest() const { return !node_rest.empty() && node_rest.size() == node_pos.size(); }
+  bool has_pieces() const { return !face_piece.empty() && face_piece.size() == face_nodes.size() / 3; }
 };
 
 }  // namespace tear

@@ -31,6 +31,9 @@ struct MeshInfo {
   /// Groups of faces connected through shared nodes (so two faces meeting only at a bow-tie node
   /// are one component). Nodes no face uses belong to no component.
   std::int64_t components = 0;
+  /// Connected pieces: the distinct ids of `Mesh::face_piece` when the mesh carries them, else
+  /// `components` (a frame tear wrote has as many pieces as components).
+  std::int64_t pieces = 0;
   std::int64_t euler_characteristic = 0;  ///< nodes - edges + faces
   std::int64_t non_manifold_edges = 0;    ///< edges with more than two faces (from MeshReport)
   std::int64_t non_manifold_nodes = 0;    ///< bow-tie nodes: more than one fan of faces (from MeshReport)

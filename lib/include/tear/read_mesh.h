@@ -29,6 +29,11 @@ struct ReadOptions {
   /// instance (a glTF file stops being read as soon as its placed triangles pass it); more is an
   /// input `Error`. Mirrors `--max-faces`.
   std::uint64_t max_faces = default_max_faces;
+  /// Nodes as the file writes them, for comparing files (`tear diff`): vertex i is node i. Where the
+  /// file carries ids (tear's PLY and glTF/GLB), the copies written after the nodes (at UV seams)
+  /// rejoin their node; nothing is welded by position (a torn OBJ frame stays torn), and nodes no
+  /// face uses, and faces that repeat a node, are kept. `weld` and `weld_tolerance` are not used.
+  bool as_written = false;
 };
 
 /// Reads OBJ, PLY, glTF/GLB (tear's own readers) or anything else assimp reads (docs/io.md).

@@ -35,6 +35,7 @@ CutStats Cloth::cut(const std::vector<CutLine>& cuts, const CutOptions& options)
 Mesh Cloth::mesh() const { return engine_->mesh_later(true).take(); }
 PendingMesh Cloth::mesh_later(bool corner_normals) const { return engine_->mesh_later(corner_normals); }
 bool Cloth::has_corner_normals() const { return engine_->has_corner_normals(); }
+index_t Cloth::piece_count() const { return engine_->piece_count(); }
 std::vector<index_t> Cloth::face_nodes() const { return engine_->face_nodes(); }
 Topology Cloth::topology() const { return engine_->topology(); }
 std::vector<float> Cloth::node_pos() const { return engine_->node_pos(); }

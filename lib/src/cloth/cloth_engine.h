@@ -27,6 +27,7 @@ class Cloth::Engine {
   /// The mesh, its copy to the host queued (`Cloth::mesh_later`).
   virtual PendingMesh mesh_later(bool corner_normals) const = 0;
   virtual bool has_corner_normals() const = 0;
+  virtual index_t piece_count() const = 0;
   virtual std::vector<index_t> face_nodes() const = 0;
   virtual Topology topology() const = 0;
   virtual std::vector<float> node_pos() const = 0;

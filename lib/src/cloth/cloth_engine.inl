@@ -2,6 +2,7 @@
 // cuts and tears through the remesher, cloth_cutting.h), step (the solver and the tearing check,
 // cloth_stepping.h) and transfer (upload, frames, checkpoints, cloth_transfer.h). Nothing goes
 // through the host between frames but what a frame writes.
+#include <algorithm>
 #include <cstring>
 #include <string>
 #include <type_traits>
@@ -16,6 +17,7 @@
 #include "cloth/cloth_engine.h"
 #include "cloth/cloth_stepping.h"
 #include "cloth/cloth_transfer.h"
+#include "cloth/face_pieces.h"
 #include "cloth_data/device_cloth.h"
 #include "tear/pending_mesh.h"
 #include "topology/device_topology.h"
@@ -36,6 +38,10 @@ class ClothEngine final : public Cloth::Engine {
  public:
   explicit ClothEngine(const Mesh& mesh) {
     upload_cloth(cloth_, mesh, cutter_.remesher().topology_scratch(), cutter_.remesher().allocator());
+    // Pieces numbered afresh, in order of their lowest face.
+    std::vector<index_t> pieces;
+    piece_count_ = number_pieces(mesh.face_nodes, mesh.node_count(), pieces);
+    assign_from_host(cloth_.face_piece, pieces);
   }
 
   Device device() const override { return std::is_same<System, Omp>::value ? Device::cpu : Device::cuda; }
@@ -45,7 +51,10 @@ class ClothEngine final : public Cloth::Engine {
   CutStats cut(const std::vector<CutLine>& cuts, const CutOptions& options) override {
     bool changed = false;
     const CutStats stats = cutter_.cut(cloth_, cuts, options, changed);
-    if (changed) stepper_.mesh_changed();  // the solver's model is the old mesh's: rebuilt by the next step
+    if (changed) {
+      stepper_.mesh_changed();  // the solver's model is the old mesh's: rebuilt by the next step
+      renumber_pieces_now();
+    }
     return stats;
   }
 
@@ -80,6 +89,7 @@ class ClothEngine final : public Cloth::Engine {
     if (frame < 1) frame = frames_stepped_ + 1;
     stepper_.step(cloth_, cutter_, frame, last_tear_);
     frames_stepped_ = frame;
+    if (last_tear_.events > 0) renumber_pieces_now();  // once per frame, over all its substeps' tears
   }
 
   TearStats last_tear() const override { return last_tear_; }
@@ -93,6 +103,7 @@ class ClothEngine final : public Cloth::Engine {
   }
 
   PendingMesh mesh_later(bool corner_normals) const override { return download_cloth_later(cloth_, corner_normals); }
+  index_t piece_count() const override { return piece_count_; }
   bool has_corner_normals() const override { return !cloth_.corner_normal.empty(); }
   std::vector<index_t> face_nodes() const override { return to_host<index_t>(cloth_.face_nodes); }
   Topology topology() const override { return download(cloth_.topo); }
@@ -109,6 +120,13 @@ class ClothEngine final : public Cloth::Engine {
     load_cloth(c, frames, state, source, cutter_.remesher().topology_scratch(), cutter_.remesher().allocator());
     cloth_ = std::move(c);
     frames_stepped_ = frames;
+    const std::vector<index_t> pieces = to_host<index_t>(cloth_.face_piece);
+    piece_count_ = 0;
+    for (index_t p : pieces) {
+      if (p < 0 || p >= face_count())
+        throw input_error(source, "a face's piece is out of range (a damaged or foreign checkpoint)");
+      piece_count_ = std::max(piece_count_, p + 1);
+    }
     stepper_.mesh_changed();
   }
 
@@ -119,7 +137,15 @@ class ClothEngine final : public Cloth::Engine {
   }
 
  private:
+  /// The pieces after a cut or tear: each face's carried id renumbered for the pieces it is in now.
+  void renumber_pieces_now() {
+    std::vector<index_t> pieces = to_host<index_t>(cloth_.face_piece);
+    piece_count_ = renumber_pieces(to_host<index_t>(cloth_.face_nodes), to_host<float>(cloth_.node_rest), pieces);
+    assign_from_host(cloth_.face_piece, pieces);
+  }
+
   DeviceCloth<System> cloth_;
+  index_t piece_count_ = 0;  // the pieces (ids 0 .. piece_count_ - 1)
   CutJob<System> cutter_;
   StepJob<System> stepper_;
   bool simulated_ = false;

@@ -10,7 +10,7 @@
 //
 //   model   face_nodes, node_rest, corner UVs and normals (the topology is derived from face_nodes)
 //   state   node_pos, node_vel
-//   carried node_pinned, face_origin, corner_origin, face_strength (every array a cut carries)
+//   carried node_pinned, face_origin, corner_origin, face_strength, face_piece (every array a cut carries)
 //
 // Example: a sheet of 2 faces read from a file: face_origin = [0, 1], corner_origin = the unit
 // weights (1,0,0 | 0,1,0 | 0,0,1) of each face's corners; after a cut through face 1, the new
@@ -74,6 +74,9 @@ struct DeviceCloth {
   /// [face_count] or empty: the factor on the tearing limits of the fabric in this face (strength
   /// map, variation; docs/simulation.md, *Tearing*), set when a simulation with tearing starts.
   vec<float> face_strength;
+  /// [face_count] the connected piece of the face (docs/identity.md, *Pieces*): carried from the
+  /// parent through a cut, then renumbered by the engine (cloth/face_pieces.h).
+  vec<index_t> face_piece;
   // Of the mesh as read, not carried: bit j of face F = F's edge j was on the border.
   vec<std::uint8_t> input_face_border;
 
@@ -114,7 +117,7 @@ struct DeviceCloth {
     using R = Role;
     // clang-format off
     f(Attribute<index_t>{"face_nodes", E::face, 3, C::written, R::model, false, &Mesh::face_nodes}, c.face_nodes);
-    f(Attribute<float>{"node_rest", E::node, 3, C::interpolate, R::model, false, nullptr}, c.node_rest);
+    f(Attribute<float>{"node_rest", E::node, 3, C::interpolate, R::model, false, &Mesh::node_rest}, c.node_rest);
     f(Attribute<float>{"corner_uv", E::corner, 2, C::interpolate, R::model, true, &Mesh::corner_uv}, c.corner_uv);
     f(Attribute<float>{"corner_normal", E::corner, 3, C::unit, R::model, true, &Mesh::corner_normal}, c.corner_normal);
     f(Attribute<float>{"node_pos", E::node, 3, C::interpolate, R::state, false, &Mesh::node_pos}, c.node_pos);
@@ -124,6 +127,7 @@ struct DeviceCloth {
     f(Attribute<float>{"corner_origin", E::corner, 3, C::interpolate, R::carried, false, nullptr}, c.corner_origin);
     f(Attribute<std::uint8_t>{"input_face_border", E::input_face, 1, C::written, R::model, false, nullptr}, c.input_face_border);
     f(Attribute<float>{"face_strength", E::face, 1, C::parent, R::carried, true, nullptr}, c.face_strength);
+    f(Attribute<index_t>{"face_piece", E::face, 1, C::parent, R::carried, false, &Mesh::face_piece}, c.face_piece);
     // clang-format on
   }
 };

@@ -16,7 +16,7 @@ namespace tear {
 namespace {
 
 constexpr char magic[8] = {'T', 'E', 'A', 'R', 'C', 'K', 'P', 'T'};
-constexpr std::uint32_t format_version = 3;
+constexpr std::uint32_t format_version = 4;
 
 template <class T>
 void put(std::string& out, T value) {

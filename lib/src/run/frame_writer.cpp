@@ -49,7 +49,8 @@ struct FrameWriter::Pool {
 
   Pool(FrameSink& frame_sink, const FrameWriterOptions& options)
       : sink(frame_sink), stages_files(frame_sink.stages_files()) {
-    const int hardware = static_cast<int>(std::thread::hardware_concurrency());
+    // At most as many writer threads as this thread's OpenMP limit (--threads, OMP_NUM_THREADS).
+    const int hardware = std::min(static_cast<int>(std::thread::hardware_concurrency()), omp_get_max_threads());
     const int count = options.threads > 0 ? options.threads : std::max(1, std::min(4, hardware));
     max_in_flight = options.max_in_flight > 0 ? static_cast<std::size_t>(options.max_in_flight)
                                               : 2 * static_cast<std::size_t>(count);

@@ -88,6 +88,7 @@ std::unique_ptr<FrameSink> make_sink(const FramePattern& pattern, const CutScrip
 
 nlohmann::json frame_report(const FrameResult& frame, const Cloth& cloth) {
   return {{"frame", frame.output_frame}, {"nodes", cloth.node_count()},  {"faces", cloth.face_count()},
+          {"pieces", cloth.piece_count()},
           {"cuts", frame.cut_count},     {"remesh_ms", frame.remesh_ms}, {"simulation_ms", frame.simulation_ms},
           {"min_angle_deg", nullptr}};
 }

@@ -75,6 +75,12 @@ MeshInfo compute_mesh_info(const Mesh& mesh, const Topology& topology, const Mes
   info.boundary_edges = std::count(topology.edge_boundary.begin(), topology.edge_boundary.end(), std::uint8_t(1));
   info.boundary_loops = count_boundary_loops(topology);
   info.components = count_components(topology);
+  info.pieces = info.components;
+  if (mesh.has_pieces()) {
+    std::vector<index_t> ids(mesh.face_piece);
+    std::sort(ids.begin(), ids.end());
+    info.pieces = std::unique(ids.begin(), ids.end()) - ids.begin();
+  }
   info.euler_characteristic = info.nodes - info.edges + info.faces;
   info.non_manifold_edges = report.non_manifold_edges;
   info.non_manifold_nodes = report.non_manifold_nodes;
@@ -131,6 +137,7 @@ std::string to_json(const MeshInfo& info) {
   j["boundary_edges"] = info.boundary_edges;
   j["boundary_loops"] = info.boundary_loops;
   j["components"] = info.components;
+  j["pieces"] = info.pieces;
   j["euler_characteristic"] = info.euler_characteristic;
   j["non_manifold_edges"] = info.non_manifold_edges;
   j["non_manifold_nodes"] = info.non_manifold_nodes;

@@ -55,8 +55,9 @@ double json_number(float value) {
 /// Where each array lies in the glTF buffer: positions, normals, UVs, ids, velocities, indices.
 struct GltfLayout {
   std::size_t vertex_count = 0, corner_count = 0;
-  bool normals = false, uv = false, ids = false;
-  std::size_t positions = 0, normals_at = 0, uv_at = 0, ids_at = 0, velocities = 0, indices = 0, size = 0;
+  bool normals = false, uv = false, ids = false, pieces = false;
+  std::size_t positions = 0, normals_at = 0, uv_at = 0, ids_at = 0, velocities = 0, pieces_at = 0, indices = 0,
+              size = 0;
 
   GltfLayout() = default;
   GltfLayout(const Mesh& mesh, const SplitNodes& split)
@@ -64,12 +65,14 @@ struct GltfLayout {
         corner_count(split.corner_vertex.size()),
         normals(mesh.has_normals()),
         uv(mesh.has_uv()),
-        ids(mesh.node_count() <= max_float_id) {
+        ids(mesh.node_count() <= max_float_id),
+        pieces(mesh.has_pieces() && mesh.face_count() <= max_float_id) {
     normals_at = positions + 12 * vertex_count;
     uv_at = normals_at + (normals ? 12 * vertex_count : 0);
     ids_at = uv_at + (uv ? 8 * vertex_count : 0);
     velocities = ids_at + (ids ? 4 * vertex_count : 0);
-    indices = velocities + 12 * vertex_count;
+    pieces_at = velocities + 12 * vertex_count;
+    indices = pieces_at + (pieces ? 4 * vertex_count : 0);
     size = indices + 4 * corner_count;
   }
 };
@@ -181,7 +184,10 @@ GltfFrame gltf_frame(const Mesh& mesh, const PieceTeam& team) {
   if (layout.ids)
     attributes["_ID"] = arrays.add(layout.ids_at, layout.velocities, array_buffer, float_type, vertex_count, "SCALAR");
   attributes["_VELOCITY"] =
-      arrays.add(layout.velocities, layout.indices, array_buffer, float_type, vertex_count, "VEC3");
+      arrays.add(layout.velocities, layout.pieces_at, array_buffer, float_type, vertex_count, "VEC3");
+  // `_PIECE`: the connected piece of the vertex's node (docs/identity.md, *Pieces*), a float as `_ID`.
+  if (layout.pieces)
+    attributes["_PIECE"] = arrays.add(layout.pieces_at, layout.indices, array_buffer, float_type, vertex_count, "SCALAR");
   const std::size_t indices = arrays.add(layout.indices, layout.size, GltfAccessors::element_array_buffer,
                                          GltfAccessors::unsigned_int_type, layout.corner_count, "SCALAR");
 
@@ -206,6 +212,7 @@ void put_gltf_buffer(const Mesh& mesh, const GltfFrame& frame, const PieceTeam& 
     char* uv = buffer + layout.uv_at + 8 * begin;
     char* ids = buffer + layout.ids_at + 4 * begin;
     char* velocities = buffer + layout.velocities + 12 * begin;
+    char* pieces = buffer + layout.pieces_at + 4 * begin;
     for (std::size_t v = begin; v < end; ++v) {
       const index_t node = split.vertex_node[v], corner = split.vertex_corner[v];
       for (int k = 0; k < 3; ++k) put_f32(positions, mesh.node_pos[3 * node + k]);
@@ -216,6 +223,7 @@ void put_gltf_buffer(const Mesh& mesh, const GltfFrame& frame, const PieceTeam& 
       }
       if (layout.ids) put_f32(ids, static_cast<float>(node));
       for (int k = 0; k < 3; ++k) put_f32(velocities, mesh.has_velocities() ? mesh.node_vel[3 * node + k] : 0.0f);
+      if (layout.pieces) put_f32(pieces, corner >= 0 ? static_cast<float>(mesh.face_piece[corner / 3]) : -1.0f);
     }
   });
   team.for_each_range(layout.corner_count, [&](std::size_t, std::size_t begin, std::size_t end) {

@@ -37,6 +37,30 @@ Reader reader_for(const std::string& path, const std::string& head) {
   return Reader::assimp;
 }
 
+/// `ReadOptions::as_written`: the file's first vertices, up to the first whose id is not its own
+/// index, are the nodes; each later vertex is a copy of the node its id names. A file whose ids do
+/// not have that form (not written by tear) is welded by id.
+void keep_as_written(FileMesh& file) {
+  Mesh& mesh = file.mesh;
+  const index_t count = mesh.node_count();
+  if (file.vertex_id.size() != static_cast<std::size_t>(count)) return;
+  index_t nodes = 0;
+  while (nodes < count && file.vertex_id[nodes] == nodes) ++nodes;
+  for (index_t v = nodes; v < count; ++v) {
+    if (file.vertex_id[v] < 0 || file.vertex_id[v] >= nodes) {
+      weld_nodes_by_id(mesh, file.vertex_id);
+      return;
+    }
+  }
+  for (index_t& n : mesh.face_nodes) n = file.vertex_id[n];
+  for (index_t& n : mesh.torn_edge_nodes) n = file.vertex_id[n];
+  const std::size_t n = static_cast<std::size_t>(nodes);
+  mesh.node_pos.resize(3 * n);
+  if (!mesh.node_vel.empty()) mesh.node_vel.resize(3 * n);
+  if (!mesh.node_origin_face.empty()) mesh.node_origin_face.resize(n);
+  if (!mesh.node_origin_bary.empty()) mesh.node_origin_bary.resize(2 * n);
+}
+
 }  // namespace
 
 void check_face_budget(const std::string& path, std::uint64_t faces, std::uint64_t max_faces) {
@@ -79,7 +103,9 @@ Mesh read_mesh(const std::string& path, const ReadOptions& options) {
 
   Mesh& mesh = file.mesh;
   if (mesh.face_count() == 0) throw input_error(path, "holds no triangles");
-  if (!options.weld) {
+  if (options.as_written) {
+    keep_as_written(file);
+  } else if (!options.weld) {
     drop_unused_nodes(mesh);
   } else if (!file.vertex_id.empty()) {
     weld_nodes_by_id(mesh, file.vertex_id);

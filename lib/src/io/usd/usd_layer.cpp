@@ -86,13 +86,16 @@ std::vector<std::string> usd_layer_sample_paths(const std::string& path) {
 std::string usda_layer_text(const Mesh& mesh, int frame, const UsdLayerOptions& options) {
   check_arrays(mesh, "USD layer");
   const AttributeSet attributes = AttributeSet::of(mesh);
-  Text text;
+  Text text, value;
   text << layer_head(frame, frame, options);
+  const FrameSamples samples(mesh, nullptr, 0);
   for (int i = 0; i < attribute_count; ++i) {
     const Attribute a = static_cast<Attribute>(i);
     if (!attributes.has(a)) continue;
     text << attribute_open(a);
-    put_sample(text, a, frame, mesh);
+    value.clear();
+    put_value(value, a, samples);
+    put_sample_line(text, frame, value.data(), value.size());
     text << attribute_close;
   }
   text << layer_tail;
@@ -114,7 +117,17 @@ struct UsdLayer::Sequence {
   std::string assembled_path;  // the layer before its rename
   int first_frame = 0, last_frame = 0;
   bool opened = false, finished = false;
-  Text samples[attribute_count];  // the writer's, one per attribute
+  double frames_per_second = 24;
+  // The writer's, one per attribute: the frame's value, the lines it appends, and the value last
+  // written, at `written_frame`, which later frames held until `held_until` (a value is written
+  // only at the frames where it changes).
+  Text values[attribute_count], lines[attribute_count];
+  std::string last_value[attribute_count];
+  int written_frame[attribute_count] = {}, held_until[attribute_count] = {};
+  bool written[attribute_count] = {};
+  std::vector<float> previous_vel;  // the frame before's velocities, for accelerations
+  int previous_frame = 0;
+  bool has_previous = false;
 
   std::thread writer;
   std::mutex mutex;
@@ -132,7 +145,14 @@ struct UsdLayer::Sequence {
   /// Queues frame `frame` for the writer, waiting while `max_pending` frames wait; rethrows a
   /// failure of the writer.
   void push(int frame, const Mesh& mesh) {
-    if (!writer.joinable()) writer = std::thread([this] { write_pending(); });
+    if (!writer.joinable()) {
+      // The writer's OpenMP teams keep the limit of the thread that runs the layer (--threads).
+      const int limit = omp_get_max_threads();
+      writer = std::thread([this, limit] {
+        omp_set_num_threads(limit);
+        write_pending();
+      });
+    }
     std::unique_lock<std::mutex> lock(mutex);
     changed.wait(lock, [&] { return failure || pending.size() < max_pending; });
     if (failure) std::rethrow_exception(failure);
@@ -197,19 +217,38 @@ struct UsdLayer::Sequence {
   /// and UVs, one value per corner); each file's bytes are the same whatever the threads do.
   void append(const Mesh& mesh, int frame) {
     static constexpr Attribute by_size[attribute_count] = {
-        Attribute::normals,    Attribute::st,        Attribute::face_vertex_indices, Attribute::points,
-        Attribute::velocities, Attribute::tear_edge, Attribute::face_vertex_counts,  Attribute::extent};
+        Attribute::st_indices, Attribute::normal_indices, Attribute::face_vertex_indices, Attribute::tear_edge,
+        Attribute::points,     Attribute::velocities,     Attribute::accelerations,       Attribute::normals,
+        Attribute::st,         Attribute::rest,           Attribute::id,                  Attribute::piece,
+        Attribute::face_vertex_counts, Attribute::extent};
+    const double per_second = has_previous && frame > previous_frame ? frames_per_second / (frame - previous_frame) : 0;
+    const FrameSamples frame_samples(mesh, has_previous && mesh.has_velocities() ? &previous_vel : nullptr, per_second);
     int errors[attribute_count] = {};
     std::exception_ptr failures[attribute_count];
-    const int threads = std::max(1, std::min(4, omp_get_num_procs()));
+    const int threads = std::max(1, std::min({4, omp_get_num_procs(), omp_get_max_threads()}));
 #pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (int k = 0; k < attribute_count; ++k) {
       const int i = static_cast<int>(by_size[k]);
       if (!files[i]) continue;
       try {
-        Text& text = samples[i];
+        Text& value = values[i];
+        value.clear();
+        put_value(value, static_cast<Attribute>(i), frame_samples);
+        std::string& last = last_value[i];
+        if (written[i] && !declarations[i].every_frame && last.size() == value.size() && std::memcmp(last.data(), value.data(), value.size()) == 0) {
+          held_until[i] = frame;  // unchanged: not written again
+          continue;
+        }
+        Text& text = lines[i];
         text.clear();
-        put_sample(text, static_cast<Attribute>(i), frame, mesh);
+        // USD interpolates floating-point samples linearly: a value held since an earlier frame is
+        // written again at the frame before the change, so the frames between keep it exactly.
+        if (written[i] && declarations[i].interpolated && held_until[i] > written_frame[i])
+          put_sample_line(text, held_until[i], last.data(), last.size());
+        put_sample_line(text, frame, value.data(), value.size());
+        last.assign(value.data(), value.size());
+        written[i] = true;
+        written_frame[i] = held_until[i] = frame;
         if (std::fwrite(text.data(), 1, text.size(), files[i]) != text.size()) errors[i] = errno ? errno : EIO;
       } catch (...) {
         failures[i] = std::current_exception();
@@ -219,6 +258,9 @@ struct UsdLayer::Sequence {
       if (failures[i]) std::rethrow_exception(failures[i]);
       if (errors[i]) throw write_error(path, errors[i]);
     }
+    previous_vel = mesh.node_vel;
+    previous_frame = frame;
+    has_previous = true;
   }
 
   void assemble(const UsdLayerOptions& options) {
@@ -319,6 +361,7 @@ void UsdLayer::write(int frame, const Mesh& mesh) {
     create_folder_of(pattern_.pattern());
     sequence_ = std::make_unique<Sequence>(pattern_.pattern());
     sequence_->first_frame = frame;
+    sequence_->frames_per_second = options_.frames_per_second;
   }
   if (sequence_->finished)
     throw runtime_error(sequence_->path + ": cannot write frame " + std::to_string(frame) + ": the layer is finished");
@@ -329,9 +372,9 @@ void UsdLayer::write(int frame, const Mesh& mesh) {
       if (frame <= s.last_frame)
         throw runtime_error(s.path + ": cannot write frame " + std::to_string(frame) + " after frame " +
                             std::to_string(s.last_frame) + " (frames go in increasing order)");
-      if (attributes.normals != s.attributes.normals || attributes.st != s.attributes.st)
+      if (!(attributes == s.attributes))
         throw runtime_error(s.path + ": frame " + std::to_string(frame) +
-                            " has other corner attributes (UVs, normals) than the first frame of the layer");
+                            " has other attributes (UVs, normals, pieces, rest positions) than the first frame of the layer");
     } else {
       s.open(attributes);
     }

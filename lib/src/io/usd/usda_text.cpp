@@ -17,29 +17,6 @@
 namespace tear::usda {
 namespace {
 
-/// Per-corner values `corner_values` [corner_count * width] as tuples. The corners of one node
-/// mostly share their value (a node's UV away from seams, its normal away from hard edges), so a
-/// corner whose value is bit for bit that of its node's previous corner copies that corner's text.
-void put_corner_tuples(Text& text, const Mesh& mesh, const std::vector<float>& corner_values, int width) {
-  struct Previous {
-    std::size_t corner = 0, begin = 0, count = 0;
-  };
-  std::vector<Previous> node_previous(static_cast<std::size_t>(mesh.node_count()));
-  const std::size_t bytes = static_cast<std::size_t>(width) * sizeof(float);
-  for (std::size_t c = 0; c < mesh.face_nodes.size(); ++c) {
-    if (c) text << ", ";
-    const float* value = &corner_values[width * c];
-    Previous& previous = node_previous[static_cast<std::size_t>(mesh.face_nodes[c])];
-    if (previous.count > 0 && std::memcmp(value, &corner_values[width * previous.corner], bytes) == 0) {
-      text.repeat(previous.begin, previous.count);
-      continue;
-    }
-    const std::size_t begin = text.size();
-    text.tuple(value, width);
-    previous = {c, begin, text.size() - begin};
-  }
-}
-
 /// 1 for each corner whose edge to the next corner of its face is a torn edge, else 0.
 std::vector<char> corner_tear_edge(const Mesh& mesh) {
   std::vector<std::uint64_t> torn;
@@ -78,9 +55,60 @@ void check_arrays(const Mesh& mesh, const std::string& path) {
                  std::to_string(mesh.node_count()));
 }
 
-/// Appends the time sample `frame` of attribute `a` of `mesh`: `        <frame>: <value>,\n`.
-void put_sample(Text& text, Attribute a, int frame, const Mesh& mesh) {
-  text << "        " << frame << ": [";
+IndexedCorners index_corners(const Mesh& mesh, const std::vector<float>& corner_values, int width) {
+  IndexedCorners out;
+  const std::size_t corners = mesh.face_nodes.size(), bytes = static_cast<std::size_t>(width) * sizeof(float);
+  out.corner_value.resize(corners);
+  // Each node's values as a chain: node_first[n] the first value of node n, value_next[v] the next.
+  std::vector<int> node_first(static_cast<std::size_t>(mesh.node_count()), -1), value_next;
+  for (std::size_t c = 0; c < corners; ++c) {
+    const float* value = &corner_values[width * c];
+    int* link = &node_first[static_cast<std::size_t>(mesh.face_nodes[c])];
+    while (*link >= 0 &&
+           std::memcmp(&corner_values[width * static_cast<std::size_t>(out.value_corner[*link])], value, bytes) != 0)
+      link = &value_next[static_cast<std::size_t>(*link)];
+    if (*link < 0) {
+      *link = static_cast<int>(out.value_corner.size());
+      out.value_corner.push_back(static_cast<index_t>(c));
+      value_next.push_back(-1);
+    }
+    out.corner_value[c] = *link;
+  }
+  return out;
+}
+
+FrameSamples::FrameSamples(const Mesh& m, const std::vector<float>* previous, double rate)
+    : mesh(m), previous_vel(previous), per_second(rate) {
+  if (m.has_normals()) normals = index_corners(m, m.corner_normal, 3);
+  if (m.has_uv()) st = index_corners(m, m.corner_uv, 2);
+}
+
+namespace {
+void put_indexed_values(Text& text, const std::vector<float>& corner_values, const IndexedCorners& indexed,
+                        int width) {
+  for (std::size_t v = 0; v < indexed.value_corner.size(); ++v) {
+    if (v) text << ", ";
+    text.tuple(&corner_values[width * static_cast<std::size_t>(indexed.value_corner[v])], width);
+  }
+}
+void put_ints(Text& text, const std::vector<int>& values) {
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    if (i) text << ", ";
+    text << values[i];
+  }
+}
+}  // namespace
+
+void put_sample_line(Text& text, int frame, const char* value, std::size_t size) {
+  text << "        " << frame << ": ";
+  text.append(value, size);
+  text << ",\n";
+}
+
+/// Appends the value of attribute `a` of a frame: `[...]`.
+void put_value(Text& text, Attribute a, const FrameSamples& samples) {
+  const Mesh& mesh = samples.mesh;
+  text << '[';
   const std::size_t node_count = static_cast<std::size_t>(mesh.node_count());
   const std::size_t corner_count = mesh.face_nodes.size();
   switch (a) {
@@ -110,6 +138,20 @@ void put_sample(Text& text, Attribute a, int frame, const Mesh& mesh) {
       }
       break;
     }
+    case Attribute::accelerations: {
+      // (v - v_before) / dt for the nodes the frame before had; 0 for the others, and without
+      // velocities or a frame before.
+      const std::vector<float>* before = samples.previous_vel;
+      const std::size_t known = mesh.has_velocities() && before ? std::min(node_count, before->size() / 3) : 0;
+      for (std::size_t n = 0; n < node_count; ++n) {
+        if (n) text << ", ";
+        float value[3] = {0, 0, 0};
+        for (int k = 0; n < known && k < 3; ++k)
+          value[k] = static_cast<float>((double(mesh.node_vel[3 * n + k]) - (*before)[3 * n + k]) * samples.per_second);
+        text.tuple(value, 3);
+      }
+      break;
+    }
     case Attribute::extent: {
       if (node_count == 0) break;
       float lo[3], hi[3];
@@ -125,10 +167,16 @@ void put_sample(Text& text, Attribute a, int frame, const Mesh& mesh) {
       break;
     }
     case Attribute::normals:
-      put_corner_tuples(text, mesh, mesh.corner_normal, 3);
+      put_indexed_values(text, mesh.corner_normal, samples.normals, 3);
+      break;
+    case Attribute::normal_indices:
+      put_ints(text, samples.normals.corner_value);
       break;
     case Attribute::st:
-      put_corner_tuples(text, mesh, mesh.corner_uv, 2);
+      put_indexed_values(text, mesh.corner_uv, samples.st, 2);
+      break;
+    case Attribute::st_indices:
+      put_ints(text, samples.st.corner_value);
       break;
     case Attribute::tear_edge: {
       const std::vector<char> marks = corner_tear_edge(mesh);
@@ -138,10 +186,28 @@ void put_sample(Text& text, Attribute a, int frame, const Mesh& mesh) {
       }
       break;
     }
+    case Attribute::piece:
+      for (std::size_t f = 0; f < corner_count / 3; ++f) {
+        if (f) text << ", ";
+        text << static_cast<int>(mesh.has_pieces() ? mesh.face_piece[f] : 0);
+      }
+      break;
+    case Attribute::rest:
+      for (std::size_t n = 0; mesh.has_rest() && n < node_count; ++n) {
+        if (n) text << ", ";
+        text.tuple(&mesh.node_rest[3 * n], 3);
+      }
+      break;
+    case Attribute::id:
+      for (std::size_t n = 0; n < node_count; ++n) {
+        if (n) text << ", ";
+        text << static_cast<int>(n);
+      }
+      break;
     case Attribute::count:
       break;
   }
-  text << "],\n";
+  text << ']';
 }
 
 /// The layer's opening: metadata, and the mesh's uniform attributes.
@@ -170,7 +236,8 @@ std::string layer_head(int first_frame, int last_frame, const UsdLayerOptions& o
 std::string attribute_open(Attribute a) {
   const Declaration& d = declaration(a);
   std::string text = "    ";
-  if (d.face_varying) text += std::string(d.type_and_name) + " (\n        interpolation = \"faceVarying\"\n    )\n    ";
+  if (d.interpolation)
+    text += std::string(d.type_and_name) + " (\n        interpolation = \"" + d.interpolation + "\"\n    )\n    ";
   return text + d.type_and_name + ".timeSamples = {\n";
 }
 

@@ -93,46 +93,108 @@ enum class Attribute {
   face_vertex_indices,
   points,
   velocities,
+  accelerations,
   extent,
   normals,
+  normal_indices,
   st,
+  st_indices,
   tear_edge,
+  piece,
+  rest,
+  id,
   count
 };
 inline constexpr int attribute_count = static_cast<int>(Attribute::count);
 
-/// An attribute's USD type and name, the tag of its temporary file, and whether it is faceVarying.
+/// An attribute's USD type and name, the tag of its temporary file, its primvar interpolation (null
+/// for an attribute that is not a primvar, or for a primvar's indices), whether it is written at
+/// every time code (what moves: points, velocities, accelerations, extent, normals) or only at the
+/// time codes where it changes (topology, indices, UVs, tear edges, pieces, rest positions, ids),
+/// and whether USD interpolates between its samples (floating-point values: a value held over
+/// frames is then written again at the frame before it changes, so the frames between keep it).
 struct Declaration {
   const char* type_and_name;
   const char* file_tag;  // in the temporary file's name
-  bool face_varying;
+  const char* interpolation;
+  bool every_frame;
+  bool interpolated;
 };
 
 inline constexpr Declaration declarations[attribute_count] = {
-    {"int[] faceVertexCounts", "faceVertexCounts", false},
-    {"int[] faceVertexIndices", "faceVertexIndices", false},
-    {"point3f[] points", "points", false},
-    {"vector3f[] velocities", "velocities", false},
-    {"float3[] extent", "extent", false},
-    {"normal3f[] normals", "normals", true},
-    {"texCoord2f[] primvars:st", "st", true},
-    {"int[] primvars:tear_edge", "tear_edge", true},
+    {"int[] faceVertexCounts", "faceVertexCounts", nullptr, false, false},
+    {"int[] faceVertexIndices", "faceVertexIndices", nullptr, false, false},
+    {"point3f[] points", "points", nullptr, true, true},
+    {"vector3f[] velocities", "velocities", nullptr, true, true},
+    {"vector3f[] accelerations", "accelerations", nullptr, true, true},
+    {"float3[] extent", "extent", nullptr, true, true},
+    {"normal3f[] primvars:normals", "normals", "faceVarying", true, true},
+    {"int[] primvars:normals:indices", "normals_indices", nullptr, false, false},
+    {"texCoord2f[] primvars:st", "st", "faceVarying", false, true},
+    {"int[] primvars:st:indices", "st_indices", nullptr, false, false},
+    {"int[] primvars:tear_edge", "tear_edge", "faceVarying", false, false},
+    {"int[] primvars:piece", "piece", "uniform", false, false},
+    {"point3f[] primvars:rest", "rest", "vertex", false, true},
+    {"int[] primvars:id", "id", "vertex", false, false},
 };
 
 inline const Declaration& declaration(Attribute a) { return declarations[static_cast<int>(a)]; }
 
-/// Which attributes a layer holds: normals and UVs only when the mesh has them.
+/// Which attributes a layer holds: normals, UVs, pieces and rest positions only when the mesh has them.
 struct AttributeSet {
-  bool normals = false, st = false;
-  bool has(Attribute a) const { return a == Attribute::normals ? normals : a == Attribute::st ? st : true; }
-  static AttributeSet of(const Mesh& mesh) { return {mesh.has_normals(), mesh.has_uv()}; }
+  bool normals = false, st = false, piece = false, rest = false;
+  bool has(Attribute a) const {
+    switch (a) {
+      case Attribute::normals:
+      case Attribute::normal_indices:
+        return normals;
+      case Attribute::st:
+      case Attribute::st_indices:
+        return st;
+      case Attribute::piece:
+        return piece;
+      case Attribute::rest:
+        return rest;
+      default:
+        return true;
+    }
+  }
+  bool operator==(const AttributeSet& o) const {
+    return normals == o.normals && st == o.st && piece == o.piece && rest == o.rest;
+  }
+  static AttributeSet of(const Mesh& mesh) {
+    return {mesh.has_normals(), mesh.has_uv(), mesh.has_pieces(), mesh.has_rest()};
+  }
+};
+
+/// Per-corner values as an indexed primvar: the distinct values of each node's corners, in the
+/// order of the corners that first use them, and each corner's value index. The corners of a node
+/// mostly share a value (a node's UV away from seams, its normal away from hard edges), so the
+/// values are about one per node, and the indices change only when the topology (or a seam) does.
+struct IndexedCorners {
+  std::vector<index_t> value_corner;  ///< [value_count] the corner each value is read from
+  std::vector<int> corner_value;      ///< [corner_count] the value index of each corner
+};
+IndexedCorners index_corners(const Mesh& mesh, const std::vector<float>& corner_values, int width);
+
+/// What one frame's samples are made from: the mesh, its indexed normals and UVs, and the
+/// velocities of the frame before (for accelerations; none: 0).
+struct FrameSamples {
+  const Mesh& mesh;
+  IndexedCorners normals, st;
+  const std::vector<float>* previous_vel = nullptr;  ///< the frame before's node_vel, or null
+  double per_second = 0;                             ///< 1 / the time from the frame before, s
+  FrameSamples(const Mesh& m, const std::vector<float>* previous, double rate);
 };
 
 /// Refuses a mesh whose arrays do not match, so that no sample reads out of range.
 void check_arrays(const Mesh& mesh, const std::string& path);
 
-/// Appends the time sample `frame` of attribute `a` of `mesh`: `        <frame>: <value>,\n`.
-void put_sample(Text& text, Attribute a, int frame, const Mesh& mesh);
+/// Appends the value of attribute `a` of a frame: `[...]`.
+void put_value(Text& text, Attribute a, const FrameSamples& frame);
+
+/// Appends the time sample `frame` of a value: `        <frame>: <value>,\n`.
+void put_sample_line(Text& text, int frame, const char* value, std::size_t size);
 
 /// The layer's opening: metadata, and the mesh's uniform attributes.
 std::string layer_head(int first_frame, int last_frame, const UsdLayerOptions& options);
