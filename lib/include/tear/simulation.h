@@ -70,12 +70,6 @@ class PdSolver {
   std::vector<float> node_pos() const;  ///< [node_count * 3] metres
   std::vector<float> node_vel() const;  ///< [node_count * 3] m/s
 
-  /// The state in the backend's memory (GPU memory for Device::cuda, host memory for Device::cpu),
-  /// [node_count * 3] each, valid until the solver is destroyed or moved from: a cloth on the same
-  /// backend copies its arrays in and out without a trip through the host.
-  float* device_node_pos();
-  float* device_node_vel();
-
   std::vector<float> node_mass() const;           ///< [node_count] kg (density × a third of each face's area)
   std::vector<std::uint8_t> node_pinned() const;  ///< [node_count] 0 free, p + 1 held by pin p
 

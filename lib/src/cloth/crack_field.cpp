@@ -276,19 +276,22 @@ bool CrackField::nearest_border(const Vec3& p, const Vec3* d, double reach, inde
 double CrackField::piece_cut_off(index_t tip, const Vec3& point, index_t edge) const {
   const index_t a = m_.topo.edge_nodes[2 * edge], b = m_.topo.edge_nodes[2 * edge + 1];
   // The side from `tip` along the border to the edge, closed through `point`; then the other side.
+  // The polygon's vector area, summed edge by edge as its corners are walked (first corner last).
   const auto side = [&](index_t from, index_t until_a, index_t until_b, bool starts_at_point) {
-    Vec3 sum{0, 0, 0};
-    std::vector<Vec3> poly;
-    if (starts_at_point) poly.push_back(point);
+    Vec3 sum{0, 0, 0}, first = starts_at_point ? point : rest(from), last = first;
+    const auto corner = [&](const Vec3& p) {
+      sum = add(sum, cross(last, p));
+      last = p;
+    };
     index_t n = from;
     for (index_t i = 0; i <= m_.topo.node_count; ++i) {
-      poly.push_back(rest(n));
+      if (starts_at_point || i > 0) corner(rest(n));
       if (n == until_a || n == until_b) break;
       n = border_next_[n];
       if (n < 0 || (n == from && i > 0)) return -1.0;  // another loop: nothing is cut off
     }
-    if (!starts_at_point) poly.push_back(point);
-    for (std::size_t i = 0; i < poly.size(); ++i) sum = add(sum, cross(poly[i], poly[(i + 1) % poly.size()]));
+    if (!starts_at_point) corner(point);
+    corner(first);
     return 0.5 * norm(sum);
   };
   const double one = side(tip, a, b, false);

@@ -29,8 +29,6 @@ class PdSolver::Impl {
   virtual void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) = 0;
   virtual std::vector<float> node_pos() const = 0;
   virtual std::vector<float> node_vel() const = 0;
-  virtual float* device_node_pos() = 0;
-  virtual float* device_node_vel() = 0;
   virtual std::vector<float> node_mass() const = 0;
   virtual std::vector<std::uint8_t> node_pinned() const = 0;
 };

@@ -18,7 +18,7 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
                                      const DeviceTopology<System>& topo) {
   using namespace kernels;
   const auto policy = Traits<System>::policy();
-  thrust::copy(policy, node_rest.begin(), node_rest.end(), node_pos_.begin());
+  if (held_state_) thrust::copy(policy, node_rest.begin(), node_rest.end(), node_pos_.begin());
   bool keyed_pins = false;
   for (const Pin& p : options_.pins) keyed_pins = keyed_pins || !p.keys.empty();
   if (keyed_pins) {  // into the kept array: a rebuild after every tear would allocate it again

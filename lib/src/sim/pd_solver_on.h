@@ -23,6 +23,7 @@
 #include "sim/pd_solver.h"
 #include "sim/pd_solver_device.h"
 #include "sim/pd_substep.h"
+#include "tear/error.h"
 #include "tear/simulation_options.h"
 #include "topology/device_topology.h"
 
@@ -37,7 +38,7 @@ class PdSolverOn final : public PdSolver::Impl {
   /// From host arrays: uploads them and builds their topology.
   PdSolverOn(const std::vector<index_t>& face_nodes_host, const std::vector<float>& node_rest_host, index_t node_count,
              const SimulationOptions& options, const std::vector<std::uint8_t>& node_pinned)
-      : PdSolverOn(options, node_count, node_pinned) {
+      : PdSolverOn(options, node_count, node_pinned, true) {
     const vec<index_t> face_nodes(face_nodes_host.begin(), face_nodes_host.end());
     const vec<float> node_rest(node_rest_host.begin(), node_rest_host.end());
     DeviceTopology<System> topo;
@@ -46,8 +47,10 @@ class PdSolverOn final : public PdSolver::Impl {
   }
 
   /// From a cloth on this backend: its faces, rest shape, topology and pins; nothing leaves the device.
+  /// The model only: the cloth's state is stepped in place (`step_in_place`), and the solver holds
+  /// no positions or velocities of its own.
   PdSolverOn(const DeviceCloth<System>& cloth, const SimulationOptions& options)
-      : PdSolverOn(options, cloth.node_count(), std::vector<std::uint8_t>()) {
+      : PdSolverOn(options, cloth.node_count(), std::vector<std::uint8_t>(), false) {
     thrust::copy(Traits<System>::policy(), cloth.node_pinned.begin(), cloth.node_pinned.end(), node_pinned_.begin());
     build_model(cloth.face_nodes, cloth.node_rest, cloth.topo);
   }
@@ -61,27 +64,27 @@ class PdSolverOn final : public PdSolver::Impl {
     const std::size_t n3 = 3 * static_cast<std::size_t>(node_count_);
     resize_for_overwrite(node_pinned_, static_cast<std::size_t>(node_count_));
     thrust::copy(Traits<System>::policy(), cloth.node_pinned.begin(), cloth.node_pinned.end(), node_pinned_.begin());
-    for (auto* v : {&node_pos_, &node_vel_, &node_pred_, &node_iter_[0], &node_iter_[1], &node_iter_[2]})
-      resize_for_overwrite(*v, n3);
-    // As built: the solver's own state at rest and bound; `step_in_place` binds a cloth's again.
-    thrust::fill(Traits<System>::policy(), node_vel_.begin(), node_vel_.end(), 0.0f);
-    state_pos_ = raw<float>(node_pos_);
-    state_vel_ = raw<float>(node_vel_);
+    for (auto* v : {&node_pred_, &node_iter_[0], &node_iter_[1], &node_iter_[2]}) resize_for_overwrite(*v, n3);
+    // A cloth's solver: `step_in_place` binds the cloth's state.
+    state_pos_ = state_vel_ = nullptr;
     step_graph_ = std::make_unique<ReplayGraph<System>>();
     persistent_decided_ = false;  // the launch depends on the mesh's size
     build_model(cloth.face_nodes, cloth.node_rest, cloth.topo);
   }
 
  private:
-  PdSolverOn(const SimulationOptions& options, index_t node_count, const std::vector<std::uint8_t>& node_pinned)
+  /// `held_state`: the solver holds a state of its own (the standalone `PdSolver`), at rest.
+  PdSolverOn(const SimulationOptions& options, index_t node_count, const std::vector<std::uint8_t>& node_pinned,
+             bool held_state)
       : options_(options),
         node_count_(node_count),
         node_pinned_(static_cast<std::size_t>(node_count), 0),
-        node_pos_(3 * static_cast<std::size_t>(node_count), 0.0f),
-        node_vel_(3 * static_cast<std::size_t>(node_count), 0.0f) {
+        node_pos_(held_state ? 3 * static_cast<std::size_t>(node_count) : 0, 0.0f),
+        node_vel_(held_state ? 3 * static_cast<std::size_t>(node_count) : 0, 0.0f),
+        held_state_(held_state) {
     if (!node_pinned.empty()) thrust::copy(node_pinned.begin(), node_pinned.end(), node_pinned_.begin());
-    state_pos_ = raw<float>(node_pos_);
-    state_vel_ = raw<float>(node_vel_);
+    state_pos_ = held_state ? raw<float>(node_pos_) : nullptr;
+    state_vel_ = held_state ? raw<float>(node_vel_) : nullptr;
     launch_mode_ = launch_mode();
     const auto& cheb = options.chebyshev;
     omega_host_.resize(static_cast<std::size_t>(options.iterations));
@@ -176,14 +179,13 @@ class PdSolverOn final : public PdSolver::Impl {
   void step_substep_in_place(float* node_pos, float* node_vel, int frame, int s) override;
 
   void set_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) override {
+    if (!held_state_) throw Error(ErrorKind::usage, "PdSolver::set_state: a cloth's solver holds no state");
     bind_state(raw<float>(node_pos_), raw<float>(node_vel_));
     thrust::copy(node_pos.begin(), node_pos.end(), node_pos_.begin());
     thrust::copy(node_vel.begin(), node_vel.end(), node_vel_.begin());
   }
   std::vector<float> node_pos() const override { return to_host<float>(node_pos_); }
   std::vector<float> node_vel() const override { return to_host<float>(node_vel_); }
-  float* device_node_pos() override { return raw<float>(node_pos_); }
-  float* device_node_vel() override { return raw<float>(node_vel_); }
   std::vector<float> node_mass() const override { return to_host<float>(node_mass_); }
   std::vector<std::uint8_t> node_pinned() const override { return to_host<std::uint8_t>(node_pinned_); }
 
@@ -237,7 +239,8 @@ class PdSolverOn final : public PdSolver::Impl {
   index_t constraint_count_ = 0;                  // 2 per edge, weightless ones included
   mutable index_t active_constraint_count_ = -1;  // -1: not counted since the model was built
   vec<std::uint8_t> node_pinned_;
-  vec<float> node_pos_, node_vel_;
+  vec<float> node_pos_, node_vel_;  // the standalone solver's state; empty for a cloth's
+  bool held_state_ = true;
   // Model.
   vec<float> node_mass_, node_diag_;
   index_t edge_count_ = 0;

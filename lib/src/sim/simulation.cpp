@@ -109,8 +109,6 @@ void PdSolver::set_state(const std::vector<float>& node_pos, const std::vector<f
 
 std::vector<float> PdSolver::node_pos() const { return impl_->node_pos(); }
 std::vector<float> PdSolver::node_vel() const { return impl_->node_vel(); }
-float* PdSolver::device_node_pos() { return impl_->device_node_pos(); }
-float* PdSolver::device_node_vel() { return impl_->device_node_vel(); }
 std::vector<float> PdSolver::node_mass() const { return impl_->node_mass(); }
 std::vector<std::uint8_t> PdSolver::node_pinned() const { return impl_->node_pinned(); }
 
