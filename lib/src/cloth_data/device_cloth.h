@@ -41,6 +41,10 @@ enum class Carry : std::uint8_t {
 /// Newton's tags: model data the solver derives its model from, state it steps, data carried along.
 enum class Role : std::uint8_t { model, state, carried };
 
+/// A field of `tear::Mesh` holding an array of `T`.
+template <class T>
+using MeshField = std::vector<T> Mesh::*;
+
 /// One line of the table. `T` is the array's element type.
 template <class T>
 struct Attribute {
@@ -50,7 +54,7 @@ struct Attribute {
   Carry carry;
   Role role;
   bool optional;                ///< may be empty (a mesh without UVs): skipped by the carry
-  std::vector<T> Mesh::*mesh;   ///< the field of `tear::Mesh` it is read from and written to, or null
+  MeshField<T> mesh;  ///< the field of `tear::Mesh` it is read from and written to, or null
 };
 
 template <class System>
