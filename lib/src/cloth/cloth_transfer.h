@@ -22,6 +22,7 @@
 #include "backend/backend.h"
 #include "cloth_data/device_cloth.h"
 #include "node_identity.h"
+#include "tear/cut_script.h"  // max_frames: the checkpoint's frame is one of a script's
 #include "tear/error.h"
 #include "tear/pending_mesh.h"
 #include "topology/device_topology.h"
