@@ -2,6 +2,7 @@
 // within a limit, never a blocking read (docs/io.md, *Bad input*; docs/cli.md, --max-input-bytes).
 #pragma once
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 
@@ -30,5 +31,10 @@ std::string read_input_file(const std::string& path, const std::string& what,
 
 /// What a file of mode `st_mode` is, for messages: "a directory", "a FIFO", "a character device", ...
 std::string file_kind(unsigned mode);
+
+/// How deep arrays and objects nest in JSON `text` of `size` bytes (strings skipped), counted
+/// before parsing: parsers recurse and allocate per level, so a small file of `[[[[...` would
+/// overflow the stack. Example: `{"a": [[1], 2]}` nests 3 deep.
+std::size_t json_nesting_depth(const char* text, std::size_t size);
 
 }  // namespace tear

@@ -162,34 +162,12 @@ class PathTracker {
   std::vector<Level> levels_;
 };
 
-/// How deep arrays and objects nest in `text` (strings skipped), counted before parsing: the
-/// parser and the key path tracker recurse and allocate per level.
-std::size_t nesting_depth(const std::string& text) {
-  std::size_t depth = 0, deepest = 0;
-  bool in_string = false;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (in_string) {
-      if (c == '\\')
-        ++i;
-      else if (c == '"')
-        in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      deepest = std::max(deepest, ++depth);
-    } else if ((c == ']' || c == '}') && depth > 0) {
-      --depth;
-    }
-  }
-  return deepest;
-}
 
 json parse_json(const std::string& text, const std::string& file) {
   if (text.size() > max_script_bytes)
     throw input_error(file, "the cut script has " + std::to_string(text.size()) + " bytes, more than the limit of " +
                                 std::to_string(max_script_bytes));
-  if (nesting_depth(text) > max_script_depth)
+  if (json_nesting_depth(text.data(), text.size()) > max_script_depth)
     throw input_error(file, "the cut script nests arrays and objects deeper than " + std::to_string(max_script_depth) +
                                 " levels");
   PathTracker tracker(file);

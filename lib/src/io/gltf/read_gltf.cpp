@@ -65,30 +65,8 @@ void check_glb(const std::string& path, const std::string& bytes) {
   }
 }
 
-/// How deep arrays and objects nest in the JSON text (strings skipped). tinygltf converts
-/// `extras` recursively, so a file of a few hundred kilobytes of `[[[[...` would overflow the
-/// stack; glTF documents nest a few levels.
-std::size_t json_depth(const char* text, std::size_t size) {
-  std::size_t depth = 0, deepest = 0;
-  bool in_string = false;
-  for (std::size_t i = 0; i < size; ++i) {
-    const char c = text[i];
-    if (in_string) {
-      if (c == '\\')
-        ++i;
-      else if (c == '"')
-        in_string = false;
-    } else if (c == '"') {
-      in_string = true;
-    } else if (c == '[' || c == '{') {
-      deepest = std::max(deepest, ++depth);
-    } else if ((c == ']' || c == '}') && depth > 0) {
-      --depth;
-    }
-  }
-  return deepest;
-}
-
+// tinygltf converts `extras` recursively: the JSON's nesting is bounded before it is parsed
+// (json_nesting_depth, tear/input_file.h); glTF documents nest a few levels.
 constexpr std::size_t max_json_depth = 256;
 
 /// Images are of no use to cloth: they are not decoded.
@@ -336,7 +314,7 @@ std::optional<tinygltf::Model> load_model(const std::string& path, const std::st
 
   const std::size_t json_begin = binary ? 20 : 0;
   const std::size_t json_size = binary ? read_u32(bytes, 12) : bytes.size();
-  if (json_depth(bytes.data() + json_begin, json_size) > max_json_depth) {
+  if (json_nesting_depth(bytes.data() + json_begin, json_size) > max_json_depth) {
     throw input_error(path, "glTF JSON nests deeper than " + std::to_string(max_json_depth) + " levels");
   }
 
