@@ -31,16 +31,27 @@ inline double face_area(const Mesh& m, index_t f) {
   return 0.5 * std::sqrt(x * x + y * y + z * z);
 }
 
-/// Areas of the mesh's pieces (faces joined through shared nodes), largest first.
-inline std::vector<double> component_areas(const Mesh& m) {
-  std::vector<index_t> parent(m.node_count());
+/// The piece (faces joined through shared nodes) of every node, as the piece's lowest node.
+inline std::vector<index_t> node_piece_roots(const Mesh& m) {
+  std::vector<index_t> parent(static_cast<std::size_t>(m.node_count()));
   for (index_t i = 0; i < m.node_count(); ++i) parent[i] = i;
-  auto find = [&](index_t x) {
-    while (parent[x] != x) x = parent[x] = parent[parent[x]];
-    return x;
+  const auto find = [&](index_t n) {
+    while (parent[n] != n) n = parent[n] = parent[parent[n]];
+    return n;
   };
   for (index_t f = 0; f < m.face_count(); ++f)
-    for (int k = 1; k < 3; ++k) parent[find(m.face_nodes[3 * f + k])] = find(m.face_nodes[3 * f]);
+    for (int k = 1; k < 3; ++k) {
+      const index_t a = find(m.face_nodes[3 * f]), b = find(m.face_nodes[3 * f + k]);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  for (index_t n = 0; n < m.node_count(); ++n) parent[n] = find(n);
+  return parent;
+}
+
+/// Areas of the mesh's pieces (faces joined through shared nodes), largest first.
+inline std::vector<double> component_areas(const Mesh& m) {
+  const std::vector<index_t> root = node_piece_roots(m);
+  const auto find = [&](index_t n) { return root[n]; };
   std::map<index_t, double> area;
   for (index_t f = 0; f < m.face_count(); ++f) area[find(m.face_nodes[3 * f])] += face_area(m, f);
   std::vector<double> out;

@@ -26,17 +26,8 @@ constexpr double pi = 3.14159265358979323846;
 
 /// Pieces (connected through faces) of a mesh: per face, its piece; `count` of them.
 std::vector<index_t> face_pieces(const tear::Mesh& m, index_t& count) {
-  std::vector<index_t> parent(static_cast<std::size_t>(m.node_count()));
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto find = [&](index_t n) {
-    while (parent[n] != n) n = parent[n] = parent[parent[n]];
-    return n;
-  };
-  for (std::size_t f = 0; f < m.face_nodes.size(); f += 3)
-    for (int k = 1; k < 3; ++k) {
-      const index_t a = find(m.face_nodes[f]), b = find(m.face_nodes[f + k]);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
+  const std::vector<index_t> node_root = tear::test::node_piece_roots(m);
+  const auto find = [&](index_t n) { return node_root[n]; };
   std::vector<index_t> root(m.face_count()), ids;
   for (index_t f = 0; f < m.face_count(); ++f) root[f] = find(m.face_nodes[3 * f]);
   ids = root;

@@ -18,6 +18,7 @@
 #include <nlohmann/json.hpp>
 
 #include "catch.h"
+#include "remesh_checks.h"
 #include "cli_support.h"
 #include "tear/demo_scene.h"
 #include "tear/error.h"
@@ -107,24 +108,6 @@ TEST_CASE("demo: a wrong resolution or frame count is a usage error, nothing wri
 }
 
 namespace {
-
-/// The piece (connected component through faces) of every node, as in test_tearing.cpp.
-std::vector<tear::index_t> node_pieces(const tear::Mesh& m) {
-  std::vector<tear::index_t> parent(static_cast<std::size_t>(m.node_count()));
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto find = [&](tear::index_t n) {
-    while (parent[n] != n) n = parent[n] = parent[parent[n]];
-    return n;
-  };
-  for (std::size_t f = 0; f < m.face_nodes.size(); f += 3)
-    for (int k = 1; k < 3; ++k) {
-      const tear::index_t a = find(m.face_nodes[f]), b = find(m.face_nodes[f + k]);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-  std::vector<tear::index_t> piece(parent.size());
-  for (tear::index_t n = 0; n < m.node_count(); ++n) piece[n] = find(n);
-  return piece;
-}
 
 /// Edges of one face only.
 std::size_t boundary_edges(const tear::Mesh& m) {
@@ -216,7 +199,7 @@ TEST_CASE("demo --scene pull: tears into pieces, the pinned sides apart, every f
   CHECK(tear_events(dir / "pull" / "report.json") > 0);
 
   const tear::Mesh last = tear::read_mesh(frame_file(dir / "pull", tear::demo_frames).string());
-  const std::vector<tear::index_t> piece = node_pieces(last);
+  const std::vector<tear::index_t> piece = tear::test::node_piece_roots(last);
   std::vector<tear::index_t> roots(piece);
   std::sort(roots.begin(), roots.end());
   CHECK(std::unique(roots.begin(), roots.end()) - roots.begin() >= 2);

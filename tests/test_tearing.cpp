@@ -59,24 +59,6 @@ tear::Mesh pull_sheet() {
   return tear::make_sheet(sheet);
 }
 
-/// The piece (connected component through faces) of every node.
-std::vector<index_t> node_pieces(const tear::Mesh& m) {
-  std::vector<index_t> parent(static_cast<std::size_t>(m.node_count()));
-  std::iota(parent.begin(), parent.end(), 0);
-  const auto find = [&](index_t n) {
-    while (parent[n] != n) n = parent[n] = parent[parent[n]];
-    return n;
-  };
-  for (std::size_t f = 0; f < m.face_nodes.size(); f += 3)
-    for (int k = 1; k < 3; ++k) {
-      const index_t a = find(m.face_nodes[f]), b = find(m.face_nodes[f + k]);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-  std::vector<index_t> piece(parent.size());
-  for (index_t n = 0; n < m.node_count(); ++n) piece[n] = find(n);
-  return piece;
-}
-
 struct PullResult {
   index_t tear_events = 0;
   double torn_length = 0;
@@ -111,7 +93,7 @@ PullResult pull(double stretch) {
     REQUIRE(c.state_is_finite());
   });
   const tear::Mesh m = cloth.mesh();
-  const std::vector<index_t> piece = node_pieces(m);
+  const std::vector<index_t> piece = tear::test::node_piece_roots(m);
   std::vector<index_t> roots(piece);
   std::sort(roots.begin(), roots.end());
   result.pieces = static_cast<index_t>(std::unique(roots.begin(), roots.end()) - roots.begin());
