@@ -29,6 +29,15 @@ std::uint64_t check_input_file(const std::string& path, const std::string& what,
 std::string read_input_file(const std::string& path, const std::string& what,
                             std::uint64_t limit = max_input_bytes());
 
+/// Whether a file named inside another file (a glTF's buffer, a script's strength map) is one that
+/// may be read: `name` must be a relative path (no URL scheme such as `file:`, not absolute, no
+/// `..` component) that resolves, symbolic links followed, to a regular file inside `folder` or
+/// below it ("" is the current folder). Example: folder "shots/a", name "maps/weak.png" is
+/// allowed when shots/a/maps/weak.png is a file; "../b/weak.png" and "/etc/passwd" are not.
+enum class Confined { ok, not_relative, goes_up, not_a_file_inside };
+/// `path` gets the file's resolved path, the one to open, when the answer is `ok`. Nothing is opened.
+Confined confine_file(const std::string& folder, const std::string& name, std::string& path);
+
 /// What a file of mode `st_mode` is, for messages: "a directory", "a FIFO", "a character device", ...
 std::string file_kind(unsigned mode);
 

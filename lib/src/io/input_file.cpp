@@ -4,6 +4,10 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cctype>
+#include <climits>
+#include <cstdlib>
+
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
@@ -29,6 +33,37 @@ void check_stat(const std::string& path, const std::string& what, const struct s
 }
 
 }  // namespace
+
+Confined confine_file(const std::string& folder, const std::string& name, std::string& path) {
+  // A scheme (file:, http:, C:) is letters, digits, '+', '-', '.' before a ':'.
+  const std::size_t colon = name.find(':');
+  const bool scheme = colon != std::string::npos && colon > 0 &&
+                      std::all_of(name.begin(), name.begin() + static_cast<std::ptrdiff_t>(colon), [](char c) {
+                        return std::isalnum(static_cast<unsigned char>(c)) || c == '+' || c == '-' || c == '.';
+                      });
+  if (name.empty() || scheme || name[0] == '/' || name[0] == '\\' || name.find('\0') != std::string::npos)
+    return Confined::not_relative;
+  for (std::size_t at = 0; at <= name.size();) {
+    std::size_t end = name.find_first_of("/\\", at);
+    if (end == std::string::npos) end = name.size();
+    if (name.compare(at, end - at, "..") == 0) return Confined::goes_up;
+    at = end + 1;
+  }
+  const auto real = [](const std::string& p) -> std::string {
+    char resolved[PATH_MAX];
+    return ::realpath(p.c_str(), resolved) == nullptr ? std::string() : std::string(resolved);
+  };
+  const std::string asked = folder.empty() ? name : folder.back() == '/' ? folder + name : folder + "/" + name;
+  const std::string inside = real(folder.empty() ? "." : folder);
+  const std::string target = real(asked);
+  struct stat s {};
+  const std::string prefix = inside == "/" ? inside : inside + "/";
+  if (inside.empty() || target.empty() || target.compare(0, prefix.size(), prefix) != 0 ||
+      ::stat(target.c_str(), &s) != 0 || !S_ISREG(s.st_mode))
+    return Confined::not_a_file_inside;
+  path = target;
+  return Confined::ok;
+}
 
 std::uint64_t max_input_bytes() { return limit_bytes.load(std::memory_order_relaxed); }
 void set_max_input_bytes(std::uint64_t bytes) { limit_bytes.store(bytes, std::memory_order_relaxed); }
