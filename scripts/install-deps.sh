@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 # assimp-testmodels: meshes written by other tools, read by the test suite.
 # python3, python3-venv: the virtual environment usd-core and nanobind go in (Debian's Python
 # refuses pip installs outside one); python3-dev: the headers the Python module is built against.
-packages=(cmake ninja-build g++ pkg-config libassimp-dev libtinyobjloader-dev libtinygltf-dev libeigen3-dev libcli11-dev
+packages=(cmake ninja-build g++ pkg-config libassimp-dev libtinyobjloader-dev libtinygltf-dev libstb-dev libeigen3-dev libcli11-dev
   nlohmann-json3-dev catch2 libthrust-dev assimp-testmodels python3 python3-venv python3-dev)
 missing=()
 for p in "${packages[@]}"; do

@@ -236,7 +236,7 @@ TEST_CASE("tearing: every error names the file and the key path", "[tearing]") {
        "simulation.tearing.max_faces_per_step: expected an integer in 1..100000000 (crack advances per substep), got 2.5"},
       {R"({"tearing": {"stretch": 2, "toughness": 3}})",
        "simulation.tearing.toughness: unknown key (expected stretch, start, radius, step, min_piece, "
-       "max_faces_per_step, weave, seam_strength, variation or seed)"},
+       "max_faces_per_step, weave, seam_strength, variation, seed or strength_map)"},
   };
   for (const auto& [text, message] : cases) {
     INFO(text);

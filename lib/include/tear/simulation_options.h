@@ -5,6 +5,7 @@
 #include <array>
 #include <cstdint>
 #include <cstddef>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -84,6 +85,17 @@ struct Weave {
   double weft_strength = 1;          ///< a crack along the weft tears at this times the warp's limit
 };
 
+/// A greyscale image in UV space whose value multiplies the tearing limits
+/// (`simulation.tearing.strength_map`): white 1, black 0. Read when the script is.
+struct StrengthMap {
+  std::string file;          ///< the image's path as the script names it, for messages
+  int width = 0, height = 0;
+  std::vector<float> value;  ///< [height * width] in [0, 1], row 0 the image's top (v = 1)
+
+  /// The value at (u, v), bilinear between texel centres, repeating outside [0, 1] as UVs tile.
+  float at(double u, double v) const;
+};
+
 /// The cloth tearing by itself where it is stretched too far (`simulation.tearing`): cracks that
 /// start where the smoothed stretch passes `start`, run from their tips while the stretch around a
 /// tip passes `stretch`, and stop at borders, other cracks or where the stress is gone
@@ -112,6 +124,8 @@ struct TearingOptions {
   /// Relative amplitude of a seeded noise field (feature size `radius`) on the limits, in [0, 0.9].
   double variation = 0;
   std::uint32_t seed = 0;
+  /// A painted strength: the limits times the map's value at the face (null: none).
+  std::shared_ptr<const StrengthMap> strength_map;
 
   bool enabled() const { return stretch > 0; }
   double start_stretch() const { return start > 0 ? start : stretch; }

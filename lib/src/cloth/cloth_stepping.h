@@ -9,9 +9,12 @@
 #include <cstdlib>
 #include <memory>
 #include <optional>
+#include <vector>
 
 #include <thrust/functional.h>
 #include <thrust/iterator/counting_iterator.h>
+#include <thrust/iterator/transform_iterator.h>
+#include <thrust/reduce.h>
 #include <thrust/transform_reduce.h>
 
 #include "backend/backend.h"
@@ -38,7 +41,8 @@ class StepJob {
     if (options_.tearing.enabled()) {
       // The fabric's strength per face, carried by cuts from here on.
       const std::vector<float> strength =
-          face_strength_field(to_host<float>(cloth.node_rest), to_host<index_t>(cloth.face_nodes), options_.tearing);
+          face_strength_field(to_host<float>(cloth.node_rest), to_host<index_t>(cloth.face_nodes),
+                              to_host<float>(cloth.corner_uv), options_.tearing, options_.source);
       assign_from_host(cloth.face_strength, strength);
       min_strength_ = strength.empty() ? 1.0 : *std::min_element(strength.begin(), strength.end());
     }
@@ -125,8 +129,23 @@ class StepJob {
       return false;
     }
     const auto t0 = std::chrono::steady_clock::now();
-    if (!field_) field_.emplace(crack_mesh(cloth), options_.tearing);
+    if (!field_) {
+      field_.emplace(crack_mesh(cloth), options_.tearing);
+      upload_probes(field_->probes());
+    }
     const auto t1 = std::chrono::steady_clock::now();
+    // The discs and the faces crack growth would look at, summed on the backend: where nothing
+    // there can pass its limit, the substep is quiet without reading the positions back.
+    if (!may_cut(cloth)) {
+      // TEAR_DEBUG_CRACK_CHECK=1 (the tests): the plan is made anyway, and must cut nothing.
+      if (std::getenv("TEAR_DEBUG_CRACK_CHECK") && !field_->plan(to_host<float>(cloth.node_pos)).cuts.empty())
+        throw Error(ErrorKind::runtime, "tearing: the backend's check skipped a substep whose plan cuts");
+      if (std::getenv("TEAR_DEBUG_CRACK_TIMES"))
+        std::fprintf(stderr, "check: field %.3f ms, quiet on the backend\n",
+                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      m.check_end.record();
+      return false;
+    }
     const std::vector<float> positions = to_host<float>(cloth.node_pos);
     const auto t2 = std::chrono::steady_clock::now();
     const CrackPlan plan = field_->plan(positions);
@@ -154,6 +173,48 @@ class StepJob {
     return true;
   }
 
+  /// The crack field's probes (CrackProbes) into the backend's memory, with its host half.
+  void upload_probes(CrackProbes probes) {
+    std::vector<index_t> keys(probes.faces.size());
+    for (std::size_t p = 0; p < probes.count(); ++p)
+      std::fill(keys.begin() + probes.offsets[p], keys.begin() + probes.offsets[p + 1], static_cast<index_t>(p));
+    assign_from_host(probe_keys_, keys);
+    assign_from_host(probe_faces_, probes.faces);
+    assign_from_host(may_start_, probes.may_start);
+    resize_for_overwrite(sum_keys_, probes.count());
+    resize_for_overwrite(sums_, probes.count());
+    probes_ = std::move(probes);
+  }
+
+  /// Whether crack growth may cut this substep (CrackField::may_cut), from the discs' sums and the
+  /// largest stretch of a face that may start a crack, computed on the backend and read back.
+  bool may_cut(const DeviceCloth<System>& cloth) {
+    const float* strength = cloth.face_strength.empty() ? nullptr : raw<float>(cloth.face_strength);
+    const thrust::counting_iterator<index_t> zero(0);
+    std::vector<double> sums(8 * probes_.count(), 0.0);
+    if (!probe_faces_.empty()) {
+      // Summed per disc by key (no atomics). The sums only gate the host's plan, with a margin, so
+      // their last bits do not reach a result.
+      const auto terms = thrust::make_transform_iterator(
+          zero, kernels::disc_term{raw<index_t>(probe_faces_), raw<index_t>(cloth.face_nodes),
+                                   raw<float>(cloth.node_rest), raw<float>(cloth.node_pos), strength});
+      const auto ends = thrust::reduce_by_key(Traits<System>::policy(), probe_keys_.begin(), probe_keys_.end(), terms,
+                                              sum_keys_.begin(), sums_.begin(), thrust::equal_to<index_t>(),
+                                              kernels::add_disc_sums());
+      const std::size_t n = static_cast<std::size_t>(ends.first - sum_keys_.begin());
+      const std::vector<index_t> keys = to_host<index_t>(sum_keys_);
+      const std::vector<kernels::DiscSums> values = to_host<kernels::DiscSums>(sums_);
+      for (std::size_t i = 0; i < n; ++i)
+        std::copy(values[i].v, values[i].v + 8, &sums[8 * std::size_t(keys[i])]);
+    }
+    const double start = thrust::transform_reduce(
+        Traits<System>::policy(), zero, zero + cloth.face_count(),
+        kernels::start_stretch_of{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest), raw<float>(cloth.node_pos),
+                                  strength, raw<std::uint8_t>(may_start_)},
+        0.0, thrust::maximum<double>());
+    return field_->may_cut(probes_, sums, start);
+  }
+
   /// What crack growth reads of the cloth, on the host.
   static CrackMesh crack_mesh(const DeviceCloth<System>& c) {
     CrackMesh mesh;
@@ -177,6 +238,10 @@ class StepJob {
   std::unique_ptr<PdSolver::Impl> solver_;  // the model of the mesh it was built for
   bool stale_ = false;                      // the mesh changed since
   std::optional<CrackField> field_;         // crack growth's view of the rest mesh, while it holds
+  CrackProbes probes_;                      // the field's probes, and in the backend's memory:
+  vector<System, index_t> probe_keys_, probe_faces_, sum_keys_;  // disc of each entry, its face
+  vector<System, std::uint8_t> may_start_;
+  vector<System, kernels::DiscSums> sums_;
   double min_strength_ = 1;
   std::unique_ptr<StepMarks[]> marks_;  // [mark_count_], one per substep
   int mark_count_ = 0;

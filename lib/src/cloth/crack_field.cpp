@@ -4,11 +4,15 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <limits>
+#include <string>
 #include <vector>
 
 #include "cloth/crack_geometry.h"
 #include "cloth/crack_growth.h"
+#include "tear/error.h"
+#include "tear_cracks.h"
 
 namespace tear {
 
@@ -48,16 +52,56 @@ double value_noise(const Vec3& p, std::uint32_t seed) {
 
 }  // namespace
 
+float StrengthMap::at(double u, double v) const {
+  if (width <= 0 || height <= 0 || !std::isfinite(u) || !std::isfinite(v)) return 1.f;
+  // Texel (i, j) has its centre at u = (i + 0.5) / width, v = 1 - (j + 0.5) / height.
+  const double x = (u - std::floor(u)) * width - 0.5, y = (1 - (v - std::floor(v))) * height - 0.5;
+  const double x0 = std::floor(x), y0 = std::floor(y);
+  const double fx = x - x0, fy = y - y0;
+  const auto texel = [&](double i, double j) {
+    const long long ii = (static_cast<long long>(i) % width + width) % width;
+    const long long jj = (static_cast<long long>(j) % height + height) % height;
+    return static_cast<double>(value[static_cast<std::size_t>(jj * width + ii)]);
+  };
+  const double top = texel(x0, y0) * (1 - fx) + texel(x0 + 1, y0) * fx;
+  const double bottom = texel(x0, y0 + 1) * (1 - fx) + texel(x0 + 1, y0 + 1) * fx;
+  return static_cast<float>(top * (1 - fy) + bottom * fy);
+}
+
 std::vector<float> face_strength_field(const std::vector<float>& node_rest, const std::vector<index_t>& face_nodes,
-                                       const TearingOptions& options) {
+                                       const std::vector<float>& corner_uv, const TearingOptions& options,
+                                       const std::string& script) {
   const std::size_t faces = face_nodes.size() / 3;
   std::vector<float> strength(faces, 1.f);
-  if (options.variation <= 0) return strength;
+  const StrengthMap* map = options.strength_map.get();
+  if (map && corner_uv.size() != 6 * faces)
+    throw input_error(script, "simulation.tearing.strength_map: the map is laid out in UV space, and the mesh has no UVs");
   for (std::size_t f = 0; f < faces; ++f) {
-    Vec3 c{0, 0, 0};
-    for (int k = 0; k < 3; ++k)
-      for (int d = 0; d < 3; ++d) c[d] += node_rest[3 * face_nodes[3 * f + k] + d] / 3.0;
-    strength[f] = static_cast<float>(1 + options.variation * value_noise(scale(c, 1 / options.radius), options.seed));
+    double factor = 1;
+    if (options.variation > 0) {
+      Vec3 c{0, 0, 0};
+      for (int k = 0; k < 3; ++k)
+        for (int d = 0; d < 3; ++d) c[d] += node_rest[3 * face_nodes[3 * f + k] + d] / 3.0;
+      factor = 1 + options.variation * value_noise(scale(c, 1 / options.radius), options.seed);
+    }
+    if (map) {
+      // At the face's UV centroid: a face spans a few texels at most on a cloth meshed for tearing.
+      const float* uv = &corner_uv[6 * f];
+      factor *= map->at((uv[0] + uv[2] + uv[4]) / 3.0, (uv[1] + uv[3] + uv[5]) / 3.0);
+    }
+    strength[f] = static_cast<float>(factor);
+  }
+  if (map) {
+    // A limit at or under 1 tears the cloth at rest (the parser checks the other factors alone).
+    const double k = std::min({1.0, options.seam_strength, options.has_weave ? options.weave.weft_strength : 1.0});
+    const double weakest = faces ? *std::min_element(strength.begin(), strength.end()) : 1.0;
+    if (!(options.stretch * weakest * k > 1)) {
+      char line[200];
+      std::snprintf(line, sizeof line, "the weakest face's strength, %.4g, times stretch (%.4g)%s is %.4g: at or under 1, "
+                    "the cloth would tear at rest (a map value v needs v * stretch over 1)", weakest, options.stretch,
+                    k < 1 ? " and the seam or weft factor" : "", options.stretch * weakest * k);
+      throw input_error(script, "simulation.tearing.strength_map: " + map->file + ": " + line);
+    }
   }
   return strength;
 }
@@ -103,6 +147,7 @@ CrackField::CrackField(CrackMesh mesh, const TearingOptions& options) : m_(std::
     }
   node_piece_.resize(nodes);
   for (index_t n = 0; n < nodes; ++n) node_piece_[n] = find(n);
+  mark_may_start();
 }
 
 CrackField::Vec3 CrackField::rest(index_t n) const {
@@ -173,47 +218,39 @@ void CrackField::build_border() {
 std::vector<double> CrackField::face_tensors(const std::vector<float>& node_pos) const {
   const index_t faces = m_.topo.face_count;
   std::vector<double> T(6 * std::size_t(faces), 0.0);
-  for (index_t f = 0; f < faces; ++f) {
-    Vec3 X[3], x[3];
-    for (int k = 0; k < 3; ++k) {
-      const index_t n = m_.face_nodes[3 * f + k];
-      X[k] = rest(n);
-      x[k] = {node_pos[3 * n], node_pos[3 * n + 1], node_pos[3 * n + 2]};
-    }
-    const Vec3 E1 = sub(X[1], X[0]), E2 = sub(X[2], X[0]), e1 = sub(x[1], x[0]), e2 = sub(x[2], x[0]);
-    const double l1 = norm(E1);
-    if (!(l1 > 0)) continue;
-    const Vec3 u = scale(E1, 1 / l1);
-    const double a = dot(E2, u);
-    const Vec3 w = sub(E2, scale(u, a));
-    const double h = norm(w);
-    if (!(h > 1e-12 * l1)) continue;
-    const Vec3 v = scale(w, 1 / h);
-    const Vec3 f1 = scale(e1, 1 / l1), f2 = scale(sub(e2, scale(e1, a / l1)), 1 / h);
-    const double c11 = dot(f1, f1), c12 = dot(f1, f2), c22 = dot(f2, f2);
-    double* t = &T[6 * std::size_t(f)];
-    const int I[6] = {0, 1, 2, 0, 0, 1}, J[6] = {0, 1, 2, 1, 2, 2};
-    for (int s = 0; s < 6; ++s)
-      t[s] = c11 * u[I[s]] * u[J[s]] + c22 * v[I[s]] * v[J[s]] + c12 * (u[I[s]] * v[J[s]] + v[I[s]] * u[J[s]]);
-  }
+  for (index_t f = 0; f < faces; ++f)
+    kernels::face_stretch_tensor(m_.face_nodes.data(), m_.node_rest.data(), node_pos.data(), f, &T[6 * std::size_t(f)]);
   return T;
 }
 
-void CrackField::smoothed(const Vec3& p, const std::vector<double>& T, double* S, double* strength) const {
+std::vector<index_t> CrackField::disc(const Vec3& p) const {
+  std::vector<index_t> faces;
   double r = radius_;
   for (int attempt = 0; attempt < 4; ++attempt, r *= 2) {
-    double area = 0, s = 0, sum[6] = {0, 0, 0, 0, 0, 0};
+    double area = 0;
+    faces.clear();
     faces_near(p, r, [&](index_t f) {
-      const double A = face_area_[f];
-      area += A;
-      s += A * (m_.face_strength.empty() ? 1.0 : m_.face_strength[f]);
-      for (int k = 0; k < 6; ++k) sum[k] += A * T[6 * std::size_t(f) + k];
+      area += face_area_[f];
+      faces.push_back(f);
     });
-    if (area > 0) {
-      for (int k = 0; k < 6; ++k) S[k] = sum[k] / area;
-      *strength = s / area;
-      return;
-    }
+    if (area > 0) return faces;
+  }
+  faces.clear();
+  return faces;
+}
+
+void CrackField::smoothed(const Vec3& p, const std::vector<double>& T, double* S, double* strength) const {
+  double area = 0, s = 0, sum[6] = {0, 0, 0, 0, 0, 0};
+  for (const index_t f : disc(p)) {
+    const double A = face_area_[f];
+    area += A;
+    s += A * (m_.face_strength.empty() ? 1.0 : m_.face_strength[f]);
+    for (int k = 0; k < 6; ++k) sum[k] += A * T[6 * std::size_t(f) + k];
+  }
+  if (area > 0) {
+    for (int k = 0; k < 6; ++k) S[k] = sum[k] / area;
+    *strength = s / area;
+    return;
   }
   for (int k = 0; k < 6; ++k) S[k] = 0;
   *strength = 1;

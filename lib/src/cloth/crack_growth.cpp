@@ -185,7 +185,7 @@ bool CrackField::start(const std::vector<double>& T, const std::vector<double>& 
   Vec3 across{0, 0, 0};
   for (const index_t f : start_candidates(stretch, loaded)) {
     const Vec3& p = face_centroid_[f];
-    if (near_crack(p)) continue;
+    if (!may_start_[f]) continue;  // near_crack(p), computed once per mesh
     double S[6], strength = 1;
     smoothed(p, T, S, &strength);
     Vec3 r;
@@ -280,6 +280,79 @@ double CrackField::largest_tip_ratio(const std::vector<float>& node_pos) const {
     largest = std::max(largest, ratio);
   }
   return largest;
+}
+
+void CrackField::mark_may_start() {
+  // near_crack's rule for every face's centroid, over the grid instead of every face.
+  may_start_.assign(m_.topo.face_count, 1);
+  for (index_t t : tips_) {
+    const Vec3 p = rest(t);
+    faces_near(p, 4 * options_.radius, [&](index_t f) {
+      if (norm(sub(p, face_centroid_[f])) < 4 * options_.radius) may_start_[f] = 0;
+    });
+  }
+  for (index_t e : border_edges_) {
+    const index_t f = m_.topo.edge_faces[2 * e];
+    const index_t c = m_.topo.face_edges[3 * f] == e ? 0 : m_.topo.face_edges[3 * f + 1] == e ? 1 : 2;
+    if (!m_.corner_torn.empty() && !m_.corner_torn[3 * f + (c + 1) % 3]) continue;
+    for (int j = 0; j < 2; ++j) {
+      const Vec3 p = rest(m_.topo.edge_nodes[2 * e + j]);
+      faces_near(p, options_.radius, [&](index_t g) {
+        if (norm(sub(p, face_centroid_[g])) < options_.radius) may_start_[g] = 0;
+      });
+    }
+  }
+}
+
+CrackProbes CrackField::probes() const {
+  CrackProbes out;
+  const auto add_probe = [&](const Vec3& centre, const Vec3& normal, double limit, double gain) {
+    const std::vector<index_t> faces = disc(centre);
+    out.faces.insert(out.faces.end(), faces.begin(), faces.end());
+    out.offsets.push_back(static_cast<index_t>(out.faces.size()));
+    out.normal.insert(out.normal.end(), normal.begin(), normal.end());
+    out.limit.push_back(limit);
+    out.gain.push_back(gain);
+  };
+  // Tips (advance): the disc ahead of the tip; the weakest of the limits its directions meet (the
+  // warp's, the weft's, a seam's); a crack that keeps to its thread sees up to 1.1 times the stretch.
+  const double weft = options_.has_weave ? options_.weave.weft_strength : 1.0;
+  const double k = std::min({1.0, weft, options_.seam_strength});
+  for (index_t n : tips_) {
+    Tip tip;
+    if (!make_tip(n, tip)) continue;
+    add_probe(add(tip.at, scale(tip.forward, 0.5 * options_.radius)), tip.normal, options_.stretch * k,
+              options_.has_weave && !m_.corner_uv.empty() ? 1.1 : 1.0);
+  }
+  // Seams that may open from the border (seam_start), loaded pieces or not.
+  for (index_t e = 0; e < m_.topo.edge_count && options_.seam_strength != 1; ++e) {
+    if (!edge_seam_[e]) continue;
+    for (int j = 0; j < 2; ++j) {
+      const index_t n = m_.topo.edge_nodes[2 * e + j], other = m_.topo.edge_nodes[2 * e + 1 - j];
+      if (border_next_[n] < 0 || border_next_[other] >= 0 || near_crack(rest(n))) continue;
+      add_probe(rest(n), face_normal_[m_.topo.edge_faces[2 * e]], options_.start_stretch() * options_.seam_strength, 1.0);
+    }
+  }
+  out.may_start = may_start_;
+  return out;
+}
+
+bool CrackField::may_cut(const CrackProbes& probes, const std::vector<double>& sums, double start_stretch) const {
+  // A thousandth of margin: the backend's sums may round apart from the host's.
+  constexpr double margin = 0.999;
+  if (start_stretch > margin * options_.start_stretch()) return true;
+  for (std::size_t p = 0; p < probes.count(); ++p) {
+    const double* sum = &sums[8 * p];
+    if (!(sum[7] > 0)) continue;  // smoothed() gives no stretch there
+    double S[6];
+    for (int k = 0; k < 6; ++k) S[k] = sum[k] / sum[7];
+    const double strength = sum[6] / sum[7];
+    Vec3 r;
+    const Vec3 normal{probes.normal[3 * p], probes.normal[3 * p + 1], probes.normal[3 * p + 2]};
+    const double ratio = probes.gain[p] * std::sqrt(std::max(principal(S, normal, r), 0.0)) / (probes.limit[p] * strength);
+    if (ratio > margin) return true;
+  }
+  return false;
 }
 
 CrackPlan CrackField::plan(const std::vector<float>& node_pos) const {

@@ -19,6 +19,7 @@
 
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "tear/cloth.h"
@@ -47,6 +48,20 @@ struct CrackPlan {
   double length = 0;    ///< rest length of the paths, metres
 };
 
+/// Where `CrackField::plan` looks, for a check on the backend that lets a substep where nothing can
+/// tear skip it: the discs it smooths the stretch over (ahead of each tip, and at each seam that may
+/// open from the border) and the faces where a new crack may start. Rest-space data, fixed while
+/// the mesh is.
+struct CrackProbes {
+  std::vector<index_t> offsets{0};       ///< [probes + 1] into `faces`
+  std::vector<index_t> faces;            ///< each disc's faces, in the order `smoothed` sums them
+  std::vector<double> normal;            ///< [probes * 3] the plane the disc's stretch is measured in
+  std::vector<double> limit;             ///< [probes] the least limit held against it, before the strength
+  std::vector<double> gain;              ///< [probes] the most a direction's choice scales the opening stretch by
+  std::vector<std::uint8_t> may_start;   ///< [faces] a new crack may start there (away from cracks and tips)
+  std::size_t count() const { return limit.size(); }
+};
+
 /// Everything of the rest mesh crack growth looks up, built once per mesh.
 class CrackField {
  public:
@@ -55,6 +70,9 @@ class CrackField {
   /// The cuts of this substep for positions `node_pos` [node_count * 3].
   CrackPlan plan(const std::vector<float>& node_pos) const;
 
+  /// The faces `smoothed` averages over around `p`: the disc of `radius`, doubled up to three times
+  /// where it holds no face's centroid.
+  std::vector<index_t> disc(const std::array<double, 3>& p) const;
   /// The rest stretch tensor smoothed over the disc of `radius` around `p` (area weighted, 3×3
   /// symmetric as xx yy zz xy xz yz), and the mean strength there. Public for the tests.
   void smoothed(const std::array<double, 3>& p, const std::vector<double>& face_tensor, double* tensor,
@@ -63,6 +81,13 @@ class CrackField {
   std::vector<double> face_tensors(const std::vector<float>& node_pos) const;
   /// The largest opening stretch over its limit of any tip (1: at its limit), for the tests.
   double largest_tip_ratio(const std::vector<float>& node_pos) const;
+  /// The discs and faces `plan` looks at (CrackProbes).
+  CrackProbes probes() const;
+  /// Whether `plan` may cut anything: a probe's opening stretch over its limit may pass 1 (`sums`
+  /// [probes * 8]: per disc the area-weighted tensor, strength and area, kernels::probe_sums), or a
+  /// face that may start a crack is stretched past `start` (`start_stretch`: the largest stretch over
+  /// strength of those faces). Conservative: where it says no, `plan` cuts nothing.
+  bool may_cut(const CrackProbes& probes, const std::vector<double>& sums, double start_stretch) const;
   /// The crack tips: border nodes whose rest angle sum passes 1.5π.
   const std::vector<index_t>& tips() const { return tips_; }
 
@@ -86,6 +111,8 @@ class CrackField {
   double choose_direction(const Tip& tip, const double* S, double limit, Vec3& d, std::vector<Vec3>& seam_path) const;
   /// Whether `p` lies within a radius of a crack, or four of a tip.
   bool near_crack(const Vec3& p) const;
+  /// `may_start_`: the faces whose centroid is not near a crack (near_crack).
+  void mark_may_start();
   /// The faces that may start a crack: over `start`, not in a loaded piece, one per grid cell.
   std::vector<index_t> start_candidates(const std::vector<double>& stretch, const std::vector<index_t>& loaded) const;
   /// A seam reaching the border that opens there, if it passes `best`.
@@ -111,6 +138,7 @@ class CrackField {
   std::vector<index_t> border_edges_;
   std::vector<std::uint8_t> edge_seam_, node_near_tip_;
   std::vector<index_t> tips_;
+  std::vector<std::uint8_t> may_start_;  // [face_count] !near_crack(centroid)
   std::vector<index_t> node_piece_;  // [node_count] the piece's lowest node
   // Faces by grid cell of side `radius` over their rest centroids: sorted cell keys and faces.
   std::vector<std::int64_t> cell_key_;
@@ -120,9 +148,13 @@ class CrackField {
   double total_area_ = 0;
 };
 
-/// The factor on the limits per face from `variation` and `seed`: a value noise of feature size
-/// `radius` over the rest centroids, 1 + variation × noise in [-1, 1]; all 1 without variation.
+/// The factor on the limits per face: from `variation` and `seed`, a value noise of feature size
+/// `radius` over the rest centroids, 1 + variation × noise in [-1, 1]; times the `strength_map`'s
+/// value at the face's UV centroid; all 1 without either. Throws an input `Error` naming `script`
+/// and the key where the map needs UVs the mesh lacks (`corner_uv` empty) or makes a face's limit
+/// 1 or less (the cloth would tear at rest).
 std::vector<float> face_strength_field(const std::vector<float>& node_rest, const std::vector<index_t>& face_nodes,
-                                       const TearingOptions& options);
+                                       const std::vector<float>& corner_uv, const TearingOptions& options,
+                                       const std::string& script);
 
 }  // namespace tear

@@ -1,5 +1,6 @@
 #include "tear/cut_script.h"
 
+#include "cloth/crack_growth.h"
 #include "script/json_reader.h"
 #include "script/parse_simulation.h"
 #include "script/unit_vector.h"
@@ -360,6 +361,22 @@ void check_script_against_mesh(const CutScript& script, const Mesh& mesh, const 
   const double diagonal = vector_length(extent);
   // Relative, so that the check means the same in millimetres and in metres.
   constexpr double flat_fraction = 1e-9;
+
+  if (script.simulation && script.simulation->tearing.enabled()) {
+    // The grain and the painted strength are laid out in UV space.
+    const TearingOptions& tearing = script.simulation->tearing;
+    for (const char* key : {"weave", "strength_map"}) {
+      const bool given = std::string(key) == "weave" ? tearing.has_weave : tearing.strength_map != nullptr;
+      if (given && !mesh.has_uv())
+        throw input_error(script.path, std::string("simulation.tearing.") + key +
+                                           ": needs a mesh with UVs (it is laid out in UV space), and " + mesh_path +
+                                           " has none");
+    }
+    // Every face's limit over 1 (the map's value times the rest), or the cloth tears at rest.
+    if (tearing.strength_map)
+      face_strength_field(mesh.node_rest.empty() ? mesh.node_pos : mesh.node_rest, mesh.face_nodes, mesh.corner_uv,
+                          tearing, script.path);
+  }
 
   for (const Cut& cut : script.cuts) {
     if (cut.kind != CutKind::polyline) continue;

@@ -139,6 +139,9 @@ class JsonReader {
     return p;
   }
 
+  /// The file the messages name.
+  const std::string& file() const { return file_; }
+
  private:
   const std::string& file_;
 };

@@ -4,9 +4,13 @@
 #include <limits>
 #include <sstream>
 
+#include <filesystem>
+
+#include "io/image/read_strength_map.h"
 #include "script/json_reader.h"
 #include "script/unit_vector.h"
 #include "tear/error.h"
+#include "tear/input_file.h"
 
 namespace tear {
 
@@ -158,11 +162,32 @@ Weave parse_weave(const Reader& reader, const json& value, const std::string& pa
   return weave;
 }
 
+/// `tearing.strength_map`: "maps/strength.png", a path relative to the script's folder, confined to
+/// it as a glTF's files are to the glTF's (docs/io.md, *Files a file names*).
+std::shared_ptr<const StrengthMap> parse_strength_map(const Reader& reader, const json& value, const std::string& path) {
+  if (!value.is_string()) reader.fail(path, "expected the path of a greyscale image, got " + describe(value));
+  const std::string& name = value.get_ref<const std::string&>();
+  const std::string folder = std::filesystem::path(reader.file()).parent_path().string();
+  const std::string rule = "a relative path to an image in the script's folder or below";
+  std::string file;
+  switch (confine_file(folder, name, file)) {
+    case Confined::not_relative:
+      reader.fail(path, "expected " + rule + ", got " + describe(value));
+    case Confined::goes_up:
+      reader.fail(path, describe(value) + " goes up with '..' (expected " + rule + ")");
+    case Confined::not_a_file_inside:
+      reader.fail(path, describe(value) + " is not a regular file in the script's folder or below");
+    case Confined::ok:
+      break;
+  }
+  return std::make_shared<const StrengthMap>(read_strength_map(file, name, reader.file(), path));
+}
+
 /// `tearing`: {"stretch": S, ...}, S required (docs/simulation.md, *Tearing*).
 TearingOptions parse_tearing(const Reader& reader, const json& value, const std::string& path) {
   reader.expect_object(value, path,
                        {"stretch", "start", "radius", "step", "min_piece", "max_faces_per_step", "weave",
-                        "seam_strength", "variation", "seed"});
+                        "seam_strength", "variation", "seed", "strength_map"});
   TearingOptions tearing;
   const std::string stretch_range = "a number in (1, " + shown(limits::max_tear_stretch) + "] (stretch ratio)";
   tearing.stretch = reader.number(reader.member(value, path, "stretch", stretch_range), child_path(path, "stretch"),
@@ -195,6 +220,8 @@ TearingOptions parse_tearing(const Reader& reader, const json& value, const std:
   if (value.contains("seed"))
     tearing.seed = static_cast<std::uint32_t>(
         reader.integer(value["seed"], child_path(path, "seed"), 0, 4294967295LL, "an integer in 0..4294967295"));
+  if (value.contains("strength_map"))
+    tearing.strength_map = parse_strength_map(reader, value["strength_map"], child_path(path, "strength_map"));
   return tearing;
 }
 
