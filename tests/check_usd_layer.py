@@ -26,11 +26,15 @@ all with `--start-frame 1001`, then checks every time sample of the layer:
   edge of the cloth's own border;
 - file names number from 1001; per-frame layers (`shot.####.usda`) hold their frame; without a
   simulation block the layer has 24 fps; `--up-axis Z --meters-per-unit 0.01` and a `.usd`
-  extension.
+  extension;
+- UsdValidation: every validator USD registers (core, UsdGeom, UsdShade, UsdSkel, UsdPhysics,
+  UsdLux, UsdMedia, UsdUtils; 30 in usd-core 26.11) reports no error or warning on each of these
+  layers, nor on the layer of the paper's demo scene (`tear demo -o demo.usda`, 48 frames); on a
+  bare stage it must report the missing metadata, so that a run that loaded no validator fails.
 
-Exit 0 when every check holds, 1 when one fails, 77 (skipped, for ctest) when `pxr` cannot be
-imported, unless TEAR_REQUIRE_USD=1 (CI), where that is a failure. `pxr` comes from .venv/
-(scripts/install-deps.sh installs usd-core there); the script re-runs itself with
+Exit 0 when every check holds, 1 when one fails, 77 (skipped, for ctest) when `pxr` (with
+UsdValidation) cannot be imported, unless TEAR_REQUIRE_USD=1 (CI), where that is a failure. `pxr`
+comes from .venv/ (scripts/install-deps.sh installs usd-core there); the script re-runs itself with
 SOURCE_DIR/.venv/bin/python when the Python it was started with lacks it.
 """
 
