@@ -14,7 +14,8 @@ and as PLY. Blender imports each, and the check asserts that:
 A second run writes three frames (the two cuts at frame 2) once as one USD layer and once as PLY
 frames. Blender imports the layer with `bpy.ops.wm.usd_import` (one mesh object, read frame by
 frame through a Mesh Sequence Cache modifier) and, at each frame, the evaluated mesh must have:
-  - the PLY frame's vertices and faces (vertex i = node i, face f with the nodes of PLY face f),
+  - the PLY frame's vertices, positions and faces (vertex i = node i, face f with the nodes of PLY
+    face f),
   - `primvars:piece` as the face attribute `piece` (INT), equal at each face to the PLY's `piece`
     of the face's vertices, with as many distinct pieces and loose parts as `tear info` counts
     (1 at frame 1, 3 after the cuts),
@@ -147,16 +148,17 @@ def check_frames(tear, mesh_path, folder, check):
 
 def ply_frame(path):
     """What Blender imports of a PLY frame: its faces as tuples of nodes (through `id`), and the
-    `piece` of each node."""
+    `piece` and position of each node."""
     mesh = import_mesh(path)
     ids = [int(v) for v in attribute(mesh, "id")[2]]
     pieces = attribute(mesh, "piece")[2]
-    node_piece = {}
+    node_piece, node_position = {}, {}
     for vertex, node in enumerate(ids):
         node_piece.setdefault(node, pieces[vertex])
+        node_position.setdefault(node, tuple(mesh.vertices[vertex].co))
     return {"vertices": len(mesh.vertices),
             "faces": [tuple(ids[v] for v in p.vertices) for p in mesh.polygons],
-            "node_piece": node_piece}
+            "node_piece": node_piece, "node_position": node_position}
 
 
 def check_usd_layer(tear, mesh_path, folder, check):
@@ -198,6 +200,9 @@ def check_usd_layer(tear, mesh_path, folder, check):
             check(len(mesh.vertices) == info["nodes"] == ply["vertices"],
                   where + "%d vertices in Blender, %d nodes, %d PLY vertices" % (
                       len(mesh.vertices), info["nodes"], ply["vertices"]))
+            positions = [tuple(v.co) for v in mesh.vertices]
+            check(positions == [ply["node_position"].get(n) for n in range(len(positions))],
+                  where + "the positions are not the PLY frame's")
             faces = [tuple(p.vertices) for p in mesh.polygons]
             check(faces == ply["faces"], where + "the faces are not the PLY frame's (%d and %d faces)" % (
                 len(faces), len(ply["faces"])))
@@ -210,7 +215,6 @@ def check_usd_layer(tear, mesh_path, folder, check):
             check(rest is not None and rest[:2] == ("POINT", "FLOAT_VECTOR"),
                   where + "rest is %s, not a point FLOAT_VECTOR attribute" % kind(rest))
             if rest is not None:
-                positions = [tuple(v.co) for v in mesh.vertices]
                 check(rest[2] == positions, where + "rest is not the positions")
             pieces = attribute(mesh, "piece")
             check(pieces is not None and pieces[:2] == ("FACE", "INT"),
