@@ -26,11 +26,15 @@ all with `--start-frame 1001`, then checks every time sample of the layer:
   edge of the cloth's own border;
 - file names number from 1001; per-frame layers (`shot.####.usda`) hold their frame; without a
   simulation block the layer has 24 fps; `--up-axis Z --meters-per-unit 0.01` and a `.usd`
-  extension.
+  extension;
+- UsdValidation: every validator USD registers (core, UsdGeom, UsdShade, UsdSkel, UsdPhysics,
+  UsdLux, UsdMedia, UsdUtils; 30 in usd-core 26.11) reports no error or warning on each of these
+  layers, nor on the layer of the paper's demo scene (`tear demo -o demo.usda`, 48 frames); on a
+  bare stage it must report the missing metadata, so that a run that loaded no validator fails.
 
-Exit 0 when every check holds, 1 when one fails, 77 (skipped, for ctest) when `pxr` cannot be
-imported, unless TEAR_REQUIRE_USD=1 (CI), where that is a failure. `pxr` comes from .venv/
-(scripts/install-deps.sh installs usd-core there); the script re-runs itself with
+Exit 0 when every check holds, 1 when one fails, 77 (skipped, for ctest) when `pxr` (with
+UsdValidation) cannot be imported, unless TEAR_REQUIRE_USD=1 (CI), where that is a failure. `pxr`
+comes from .venv/ (scripts/install-deps.sh installs usd-core there); the script re-runs itself with
 SOURCE_DIR/.venv/bin/python when the Python it was started with lacks it.
 """
 
@@ -45,7 +49,7 @@ TEAR, SOURCE = sys.argv[1], sys.argv[2]
 
 def import_pxr():
     try:
-        from pxr import Usd, UsdGeom  # noqa: F401
+        from pxr import Usd, UsdGeom, UsdValidation  # noqa: F401
         return
     except ImportError as error:
         reason = str(error)
@@ -53,7 +57,8 @@ def import_pxr():
     if os.path.exists(venv_python) and not os.environ.get("TEAR_USD_CHECK_REEXEC"):
         os.environ["TEAR_USD_CHECK_REEXEC"] = "1"
         os.execv(venv_python, [venv_python] + sys.argv)
-    message = ("usd-core (pxr) is not importable by %s nor by %s (%s); scripts/install-deps.sh installs it"
+    message = ("usd-core (pxr, with UsdValidation) is not importable by %s nor by %s (%s); "
+               "scripts/install-deps.sh installs it"
                % (sys.executable, venv_python, reason))
     if os.environ.get("TEAR_REQUIRE_USD") == "1":
         print("FAIL: " + message + " (TEAR_REQUIRE_USD=1: it must be there)")
@@ -63,7 +68,7 @@ def import_pxr():
 
 
 import_pxr()
-from pxr import Gf, Sdf, Usd, UsdGeom  # noqa: E402
+from pxr import Gf, Sdf, Usd, UsdGeom, UsdValidation  # noqa: E402
 
 FRAMES = 6
 FPS = 30
@@ -172,6 +177,25 @@ def edge_faces(indices):
     return count
 
 
+VALIDATION = {"validators": 0, "stages": 0}
+
+
+def validate(stage, what):
+    """Runs every validator USD registers (UsdValidationRegistry: the core, UsdGeom, UsdShade,
+    UsdSkel, UsdPhysics, UsdLux, UsdMedia and UsdUtils ones) over the stage at all its time codes;
+    each error or warning they report fails the check."""
+    registry = UsdValidation.ValidationRegistry()
+    validators = registry.GetOrLoadAllValidators()
+    VALIDATION["validators"] = len(validators)
+    VALIDATION["stages"] += 1
+    context = UsdValidation.ValidationContext(validators)
+    reports = [e for e in context.Validate(stage, UsdValidation.ValidationTimeRange())
+               if e.GetType() in (UsdValidation.ValidationErrorType.Error, UsdValidation.ValidationErrorType.Warn)]
+    for e in reports[:10]:
+        print("%s: UsdValidation %s %s: %s" % (what, e.GetType(), e.GetName(), e.GetMessage()))
+    check(not reports, "%s: UsdValidation reports %d errors and warnings" % (what, len(reports)))
+
+
 def main():
     mesh = os.path.join(SOURCE, "examples", "meshes", "sheet_low.obj")
     work = tempfile.mkdtemp(prefix="tear_usd_check.")
@@ -192,6 +216,7 @@ def main():
 
     stage = Usd.Stage.Open(layer_path)
     check(stage is not None, "the layer opens")
+    validate(stage, layer_path)
     check(stage.GetStartTimeCode() == START and stage.GetEndTimeCode() == last,
           "time codes %s..%s" % (stage.GetStartTimeCode(), stage.GetEndTimeCode()))
     check(stage.GetTimeCodesPerSecond() == FPS and stage.GetFramesPerSecond() == FPS,
@@ -338,6 +363,7 @@ def main():
          "--frames", "2")
     for frame in (START, START + 1):
         one = Usd.Stage.Open(os.path.join(work, "frames", "shot.%04d.usda" % frame))
+        validate(one, "per-frame layer %d" % frame)
         check(one.GetStartTimeCode() == frame == one.GetEndTimeCode(), "per-frame layer %d's time codes" % frame)
         check(UsdGeom.Mesh(one.GetPrimAtPath("/cloth")).GetPointsAttr().GetTimeSamples() == [frame],
               "per-frame layer %d's sample" % frame)
@@ -361,9 +387,28 @@ def main():
           and list(UsdGeom.PrimvarsAPI(still_geom).GetPrimvar("tear_edge").Get(2)).count(1) > 0,
           "tear_edge before and after the cut without simulation")
 
-    print("check_usd_layer: usd-core %s, %d frames of %s, %d checks, %d failed%s"
+    validate(still_stage, usd_path)
+
+    # The validators run: a stage without the metadata they ask for is reported.
+    bare = Usd.Stage.CreateInMemory()
+    UsdGeom.Mesh.Define(bare, "/cloth")
+    bare_reports = {e.GetName() for e in UsdValidation.ValidationContext(
+        UsdValidation.ValidationRegistry().GetOrLoadAllValidators()).Validate(bare)}
+    check({"MissingDefaultPrim", "MissingUpAxisMetadata", "MissingMetersPerUnitMetadata"} <= bare_reports,
+          "UsdValidation reports %s on a stage without metadata" % sorted(bare_reports))
+
+    # The layer of the paper's demo scene (tear demo: 48 frames, six cuts, simulated).
+    demo_path = os.path.join(work, "demo", "demo.usda")
+    tear("demo", "-o", demo_path)
+    demo_stage = Usd.Stage.Open(demo_path)
+    check(demo_stage.GetEndTimeCode() - demo_stage.GetStartTimeCode() == 47, "the demo's layer holds 48 frames")
+    validate(demo_stage, demo_path)
+
+    print("check_usd_layer: usd-core %s, %d frames of %s, %d checks, %d failed%s; UsdValidation: %d validators "
+          "over %d stages (the demo's %s among them)"
           % (".".join(map(str, Usd.GetVersion())), FRAMES, layer_path, checks, len(failures),
-             "" if ply_has_velocities else " (this PLY writer has no vx vy vz: velocities checked against the step)"))
+             "" if ply_has_velocities else " (this PLY writer has no vx vy vz: velocities checked against the step)",
+             VALIDATION["validators"], VALIDATION["stages"], demo_path))
     if failures:
         sys.exit(1)
     import shutil
