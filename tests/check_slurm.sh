@@ -7,13 +7,17 @@
 #
 # Needs root (slurmd starts jobs) and the binaries of slurm-wlm and munge (apt-get install slurm-wlm
 # munge). Exit 0 when every check holds, 1 when one fails, 77 (skipped, for ctest) with a message
-# when Slurm cannot be run here. Everything lives in a temporary folder; the daemons are stopped
+# when Slurm cannot be run here, unless TEAR_REQUIRE_SLURM=1 (CI), where that fails instead. Everything lives in a temporary folder; the daemons are stopped
 # and the folder removed at the end.
 set -u
 tear=$(realpath "$1")
 source_dir=$(realpath "$2")
 
 skip() {
+  if [[ ${TEAR_REQUIRE_SLURM:-} == 1 ]]; then
+    echo "FAIL: $*, and TEAR_REQUIRE_SLURM=1"
+    exit 1
+  fi
   echo "SKIP: $* (scripts/install-deps.sh does not install Slurm: apt-get install slurm-wlm munge, as root)"
   exit 77
 }
