@@ -109,7 +109,8 @@ TEAR_HD inline double face_stretch_tensor(const index_t* face_nodes, const float
     e1[d] = x[1][d] - x[0][d];
     e2[d] = x[2][d] - x[0][d];
   }
-  const double n0 = E1[1] * E2[2] - E1[2] * E2[1], n1 = E1[2] * E2[0] - E1[0] * E2[2], n2 = E1[0] * E2[1] - E1[1] * E2[0];
+  const double n0 = E1[1] * E2[2] - E1[2] * E2[1], n1 = E1[2] * E2[0] - E1[0] * E2[2],
+               n2 = E1[0] * E2[1] - E1[1] * E2[0];
   const double area = 0.5 * sqrt(n0 * n0 + n1 * n1 + n2 * n2);
   const double l1 = sqrt(E1[0] * E1[0] + E1[1] * E1[1] + E1[2] * E1[2]);
   if (!(l1 > 0)) return area;
@@ -165,17 +166,129 @@ struct disc_term {
   }
 };
 
-/// Per face: its stretch over its strength where a crack may start there (`may_start`), else 0.
-/// The faces' largest is what a start needs to pass (`tearing.start`).
-struct start_stretch_of {
+/// Per face: its own stretch over the start limit (`start` times its strength) where a crack may
+/// start there (`may_start`), else 0: a looser bound of every start than `start_ratio_of`, for
+/// backends where the discs cost more than the plan they would spare (the CPU).
+struct start_stretch_ratio_of {
   const index_t* face_nodes;
   const float* node_rest;
   const float* node_pos;
   const float* face_strength;  // null: 1
   const std::uint8_t* may_start;
+  double start;
   TEAR_HD double operator()(index_t f) const {
     if (!may_start[f]) return 0;
-    return face_principal_stretch(face_nodes, node_rest, node_pos, f) / (face_strength ? face_strength[f] : 1.0);
+    return face_principal_stretch(face_nodes, node_rest, node_pos, f) /
+           (start * (face_strength ? face_strength[f] : 1.0));
+  }
+};
+
+/// Crack growth's grid of faces by rest centroid (lib/src/cloth/crack_field.cpp, build_grid): cells
+/// of side `cell`, keys sorted, each with its face.
+struct FaceGrid {
+  const std::int64_t* keys;
+  const index_t* faces;
+  index_t count;
+  double cell;
+};
+
+/// Face f's rest centroid, as crack growth computes it.
+TEAR_HD inline void rest_centroid(const index_t* face_nodes, const float* node_rest, index_t f, double c[3]) {
+  for (int d = 0; d < 3; ++d) {
+    const double a = node_rest[3 * face_nodes[3 * f] + d], b = node_rest[3 * face_nodes[3 * f + 1] + d],
+                 e = node_rest[3 * face_nodes[3 * f + 2] + d];
+    c[d] = ((a + b) + e) * (1 / 3.0);
+  }
+}
+
+/// The largest eigenvalue of the symmetric tensor S (xx yy zz xy xz yz) in the plane of unit
+/// normal n: crack growth's `principal` (crack_geometry.h), the same arithmetic.
+TEAR_HD inline double principal_in_plane(const double* S, const double n[3]) {
+  double a[3] = {0, 1, 0};
+  if (fabs(n[0]) < 0.9) a[0] = 1, a[1] = 0;
+  const double an = a[0] * n[0] + a[1] * n[1] + a[2] * n[2];
+  double b1[3] = {a[0] - n[0] * an, a[1] - n[1] * an, a[2] - n[2] * an};
+  const double l = sqrt(b1[0] * b1[0] + b1[1] * b1[1] + b1[2] * b1[2]);
+  for (int d = 0; d < 3; ++d) b1[d] = l > 0 ? b1[d] * (1 / l) : 0;
+  const double b2[3] = {n[1] * b1[2] - n[2] * b1[1], n[2] * b1[0] - n[0] * b1[2], n[0] * b1[1] - n[1] * b1[0]};
+  const auto quad = [&](const double* m) {
+    return S[0] * m[0] * m[0] + S[1] * m[1] * m[1] + S[2] * m[2] * m[2] +
+           2 * (S[3] * m[0] * m[1] + S[4] * m[0] * m[2] + S[5] * m[1] * m[2]);
+  };
+  const double s11 = quad(b1), s22 = quad(b2);
+  const double s12 = S[0] * b1[0] * b2[0] + S[1] * b1[1] * b2[1] + S[2] * b1[2] * b2[2] +
+                     S[3] * (b1[0] * b2[1] + b1[1] * b2[0]) + S[4] * (b1[0] * b2[2] + b1[2] * b2[0]) +
+                     S[5] * (b1[1] * b2[2] + b1[2] * b2[1]);
+  const double half = 0.5 * (s11 - s22);
+  return 0.5 * (s11 + s22) + sqrt(half * half + s12 * s12);
+}
+
+/// Per face: where a new crack could start there, its smoothed stretch over the start limit (the
+/// test `CrackField::start` makes of a candidate: the stretch smoothed over the disc of `radius`
+/// around the face's rest centroid, in the face's plane, over `start` times the disc's mean
+/// strength); 0 where it cannot (near a crack or a tip, `may_start`, or its own stretch under the
+/// limit, which every candidate passes first). The faces' largest bounds every start of a substep.
+struct start_ratio_of {
+  const index_t* face_nodes;
+  const float* node_rest;
+  const float* node_pos;
+  const float* face_strength;  // null: 1
+  const std::uint8_t* may_start;
+  FaceGrid grid;
+  double radius;
+  double start;
+  TEAR_HD double operator()(index_t f) const {
+    if (!may_start[f]) return 0;
+    const double own = face_principal_stretch(face_nodes, node_rest, node_pos, f);
+    if (!(own > 0.999 * start * (face_strength ? face_strength[f] : 1.0))) return 0;
+    double c[3], n[3], E1[3], E2[3];
+    rest_centroid(face_nodes, node_rest, f, c);
+    for (int d = 0; d < 3; ++d) {
+      E1[d] = static_cast<double>(node_rest[3 * face_nodes[3 * f + 1] + d]) - node_rest[3 * face_nodes[3 * f] + d];
+      E2[d] = static_cast<double>(node_rest[3 * face_nodes[3 * f + 2] + d]) - node_rest[3 * face_nodes[3 * f] + d];
+    }
+    n[0] = E1[1] * E2[2] - E1[2] * E2[1];
+    n[1] = E1[2] * E2[0] - E1[0] * E2[2];
+    n[2] = E1[0] * E2[1] - E1[1] * E2[0];
+    const double ln = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(ln > 0)) return 0;
+    for (int d = 0; d < 3; ++d) n[d] = n[d] * (1 / ln);
+    // The disc: the grid's cells over [c - r, c + r], faces whose centroid lies within r.
+    std::int64_t lo[3], hi[3];
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = static_cast<std::int64_t>(floor((c[a] - radius) / grid.cell));
+      hi[a] = static_cast<std::int64_t>(floor((c[a] + radius) / grid.cell));
+    }
+    const auto wrap = [](std::int64_t v) { return (v + (std::int64_t(1) << 20)) & ((std::int64_t(1) << 21) - 1); };
+    double sum[6] = {0, 0, 0, 0, 0, 0}, strength = 0, area = 0, t[6];
+    for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
+      for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (std::int64_t z = lo[2]; z <= hi[2]; ++z) {
+          const std::int64_t key = (wrap(x) << 42) + (wrap(y) << 21) + wrap(z);
+          index_t first = 0, last = grid.count;  // lower bound of key
+          while (first < last) {
+            const index_t mid = first + (last - first) / 2;
+            if (grid.keys[mid] < key)
+              first = mid + 1;
+            else
+              last = mid;
+          }
+          for (index_t i = first; i < grid.count && grid.keys[i] == key; ++i) {
+            const index_t g = grid.faces[i];
+            double q[3];
+            rest_centroid(face_nodes, node_rest, g, q);
+            const double dx = q[0] - c[0], dy = q[1] - c[1], dz = q[2] - c[2];
+            if (!(sqrt(dx * dx + dy * dy + dz * dz) <= radius)) continue;
+            const double A = face_stretch_tensor(face_nodes, node_rest, node_pos, g, t);
+            area += A;
+            strength += A * (face_strength ? face_strength[g] : 1.0);
+            for (int k = 0; k < 6; ++k) sum[k] += A * t[k];
+          }
+        }
+    if (!(area > 0)) return 0;
+    for (int k = 0; k < 6; ++k) sum[k] = sum[k] / area;
+    const double lambda = principal_in_plane(sum, n);
+    return sqrt(lambda > 0 ? lambda : 0.0) / (start * (strength / area));
   }
 };
 

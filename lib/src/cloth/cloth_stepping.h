@@ -9,6 +9,7 @@
 #include <cstdlib>
 #include <memory>
 #include <optional>
+#include <type_traits>
 #include <vector>
 
 #include <thrust/functional.h>
@@ -120,10 +121,11 @@ class StepJob {
   /// all. Returns whether the cloth tore.
   bool tear(DeviceCloth<System>& cloth, CutJob<System>& cutter, StepMarks& m, TearStats& torn) {
     const thrust::counting_iterator<index_t> zero(0);
-    const double largest = thrust::transform_reduce(
-        Traits<System>::policy(), zero, zero + cloth.face_count(),
-        kernels::face_stretch_of{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest), raw<float>(cloth.node_pos)},
-        0.0, thrust::maximum<double>());
+    const double largest =
+        thrust::transform_reduce(Traits<System>::policy(), zero, zero + cloth.face_count(),
+                                 kernels::face_stretch_of{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
+                                                          raw<float>(cloth.node_pos)},
+                                 0.0, thrust::maximum<double>());
     if (!(largest > quiet_limit())) {
       m.check_end.record();
       return false;
@@ -181,13 +183,15 @@ class StepJob {
     assign_from_host(probe_keys_, keys);
     assign_from_host(probe_faces_, probes.faces);
     assign_from_host(may_start_, probes.may_start);
+    assign_from_host(cell_key_, probes.cell_key);
+    assign_from_host(cell_face_, probes.cell_face);
     resize_for_overwrite(sum_keys_, probes.count());
     resize_for_overwrite(sums_, probes.count());
     probes_ = std::move(probes);
   }
 
   /// Whether crack growth may cut this substep (CrackField::may_cut), from the discs' sums and the
-  /// largest stretch of a face that may start a crack, computed on the backend and read back.
+  /// largest smoothed stretch of a face that may start a crack, computed on the backend and read back.
   bool may_cut(const DeviceCloth<System>& cloth) {
     const float* strength = cloth.face_strength.empty() ? nullptr : raw<float>(cloth.face_strength);
     const thrust::counting_iterator<index_t> zero(0);
@@ -204,14 +208,29 @@ class StepJob {
       const std::size_t n = static_cast<std::size_t>(ends.first - sum_keys_.begin());
       const std::vector<index_t> keys = to_host<index_t>(sum_keys_);
       const std::vector<kernels::DiscSums> values = to_host<kernels::DiscSums>(sums_);
-      for (std::size_t i = 0; i < n; ++i)
-        std::copy(values[i].v, values[i].v + 8, &sums[8 * std::size_t(keys[i])]);
+      for (std::size_t i = 0; i < n; ++i) std::copy(values[i].v, values[i].v + 8, &sums[8 * std::size_t(keys[i])]);
     }
-    const double start = thrust::transform_reduce(
-        Traits<System>::policy(), zero, zero + cloth.face_count(),
-        kernels::start_stretch_of{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest), raw<float>(cloth.node_pos),
-                                  strength, raw<std::uint8_t>(may_start_)},
-        0.0, thrust::maximum<double>());
+    // The start faces' discs on a GPU, where they cost a few microseconds; on the CPU each face over
+    // the limit would sum its disc on one of a few threads, and the faces' own stretch bounds the
+    // start instead (a plan more often, the same decisions).
+    double start = 0;
+    if (std::is_same<System, Omp>::value) {
+      start = thrust::transform_reduce(
+          Traits<System>::policy(), zero, zero + cloth.face_count(),
+          kernels::start_stretch_ratio_of{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
+                                          raw<float>(cloth.node_pos), strength, raw<std::uint8_t>(may_start_),
+                                          options_.tearing.start_stretch()},
+          0.0, thrust::maximum<double>());
+    } else {
+      const kernels::FaceGrid grid{raw<std::int64_t>(cell_key_), raw<index_t>(cell_face_),
+                                   static_cast<index_t>(cell_key_.size()), probes_.cell};
+      start = thrust::transform_reduce(
+          Traits<System>::policy(), zero, zero + cloth.face_count(),
+          kernels::start_ratio_of{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
+                                  raw<float>(cloth.node_pos), strength, raw<std::uint8_t>(may_start_), grid,
+                                  probes_.radius, options_.tearing.start_stretch()},
+          0.0, thrust::maximum<double>());
+    }
     return field_->may_cut(probes_, sums, start);
   }
 
@@ -228,19 +247,21 @@ class StepJob {
     const std::vector<std::uint8_t> input_border = to_host<std::uint8_t>(c.input_face_border);
     mesh.corner_torn.resize(3 * std::size_t(mesh.topo.face_count));
     const kernels::mark_torn_corners mark{mesh.topo.face_edges.data(), mesh.topo.edge_faces.data(),
-                                          face_origin.data(), corner_origin.data(), input_border.data(),
-                                          mesh.corner_torn.data()};
+                                          face_origin.data(),          corner_origin.data(),
+                                          input_border.data(),         mesh.corner_torn.data()};
     for (index_t corner = 0; corner < 3 * mesh.topo.face_count; ++corner) mark(corner);
     return mesh;
   }
 
   SimulationOptions options_;
-  std::unique_ptr<PdSolver::Impl> solver_;  // the model of the mesh it was built for
-  bool stale_ = false;                      // the mesh changed since
-  std::optional<CrackField> field_;         // crack growth's view of the rest mesh, while it holds
-  CrackProbes probes_;                      // the field's probes, and in the backend's memory:
+  std::unique_ptr<PdSolver::Impl> solver_;                       // the model of the mesh it was built for
+  bool stale_ = false;                                           // the mesh changed since
+  std::optional<CrackField> field_;                              // crack growth's view of the rest mesh, while it holds
+  CrackProbes probes_;                                           // the field's probes, and in the backend's memory:
   vector<System, index_t> probe_keys_, probe_faces_, sum_keys_;  // disc of each entry, its face
   vector<System, std::uint8_t> may_start_;
+  vector<System, std::int64_t> cell_key_;
+  vector<System, index_t> cell_face_;
   vector<System, kernels::DiscSums> sums_;
   double min_strength_ = 1;
   std::unique_ptr<StepMarks[]> marks_;  // [mark_count_], one per substep

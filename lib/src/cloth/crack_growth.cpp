@@ -38,7 +38,8 @@ double CrackField::choose_direction(const Tip& tip, const double* S, double limi
     // woven cloth tears along one thread, not in a staircase of both.
     const double keep_warp = std::abs(dot(warp, tip.forward)) >= std::abs(dot(weft, tip.forward)) ? 1.1 : 1.0;
     consider(warp, keep_warp * keep_warp * quad(S, cross(tip.normal, warp)), limit);
-    consider(weft, (2.21 - keep_warp * keep_warp) * quad(S, cross(tip.normal, weft)), limit * options_.weave.weft_strength);
+    consider(weft, (2.21 - keep_warp * keep_warp) * quad(S, cross(tip.normal, weft)),
+             limit * options_.weave.weft_strength);
   } else {
     Vec3 r;
     const double lambda = principal(S, tip.normal, r);
@@ -257,7 +258,7 @@ bool CrackField::make_tip(index_t n, Tip& out) const {
   }
   const double half = 0.5 * (c11 - c22), lambda = 0.5 * (c11 + c22) + std::sqrt(half * half + c12 * c12);
   Vec3 line = std::abs(lambda - c22) + std::abs(c12) > 1e-300 ? unit(add(scale(b1, lambda - c22), scale(b2, c12)))
-                                                               : unit(in_plane(scale(back, -1), tip.normal));
+                                                              : unit(in_plane(scale(back, -1), tip.normal));
   if (dot(line, back) > 0) line = scale(line, -1);
   tip.course = add(centre, scale(line, dot(sub(tip.at, centre), line)));
   if (norm(sub(tip.course, tip.at)) > 0.5 * radius_) tip.course = tip.at;  // a kinked slit: no line
@@ -330,17 +331,22 @@ CrackProbes CrackField::probes() const {
     for (int j = 0; j < 2; ++j) {
       const index_t n = m_.topo.edge_nodes[2 * e + j], other = m_.topo.edge_nodes[2 * e + 1 - j];
       if (border_next_[n] < 0 || border_next_[other] >= 0 || near_crack(rest(n))) continue;
-      add_probe(rest(n), face_normal_[m_.topo.edge_faces[2 * e]], options_.start_stretch() * options_.seam_strength, 1.0);
+      add_probe(rest(n), face_normal_[m_.topo.edge_faces[2 * e]], options_.start_stretch() * options_.seam_strength,
+                1.0);
     }
   }
   out.may_start = may_start_;
+  out.cell_key = cell_key_;
+  out.cell_face = cell_face_;
+  out.cell = cell_;
+  out.radius = radius_;
   return out;
 }
 
-bool CrackField::may_cut(const CrackProbes& probes, const std::vector<double>& sums, double start_stretch) const {
+bool CrackField::may_cut(const CrackProbes& probes, const std::vector<double>& sums, double start_ratio) const {
   // A thousandth of margin: the backend's sums may round apart from the host's.
   constexpr double margin = 0.999;
-  if (start_stretch > margin * options_.start_stretch()) return true;
+  if (start_ratio > margin) return true;
   for (std::size_t p = 0; p < probes.count(); ++p) {
     const double* sum = &sums[8 * p];
     if (!(sum[7] > 0)) continue;  // smoothed() gives no stretch there
@@ -349,7 +355,8 @@ bool CrackField::may_cut(const CrackProbes& probes, const std::vector<double>& s
     const double strength = sum[6] / sum[7];
     Vec3 r;
     const Vec3 normal{probes.normal[3 * p], probes.normal[3 * p + 1], probes.normal[3 * p + 2]};
-    const double ratio = probes.gain[p] * std::sqrt(std::max(principal(S, normal, r), 0.0)) / (probes.limit[p] * strength);
+    const double ratio =
+        probes.gain[p] * std::sqrt(std::max(principal(S, normal, r), 0.0)) / (probes.limit[p] * strength);
     if (ratio > margin) return true;
   }
   return false;
@@ -394,7 +401,8 @@ CrackPlan CrackField::plan(const std::vector<float>& node_pos) const {
     // A straight rest-space cut in the plane of its start, projected along that plane's normal.
     const Vec3 d = unit(sub(path.back(), path.front()));
     Vec3 normal{0, 0, 0};
-    faces_near(path.front(), options_.radius, [&](index_t f) { normal = add(normal, scale(face_normal_[f], face_area_[f])); });
+    faces_near(path.front(), options_.radius,
+               [&](index_t f) { normal = add(normal, scale(face_normal_[f], face_area_[f])); });
     normal = unit(in_plane(normal, d));
     if (norm(normal) == 0) normal = any_tangent(d);
     const Vec3 v = cross(normal, d);

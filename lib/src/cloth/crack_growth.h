@@ -32,10 +32,10 @@ namespace tear {
 /// The cloth as crack growth reads it, on the host: the rest mesh and what is derived from it
 /// (kept while the mesh does not change) and the current positions.
 struct CrackMesh {
-  std::vector<float> node_rest;       ///< [node_count * 3]
-  std::vector<index_t> face_nodes;    ///< [face_count * 3]
-  std::vector<float> corner_uv;       ///< [face_count * 6] or empty
-  std::vector<float> face_strength;   ///< [face_count] or empty (1)
+  std::vector<float> node_rest;      ///< [node_count * 3]
+  std::vector<index_t> face_nodes;   ///< [face_count * 3]
+  std::vector<float> corner_uv;      ///< [face_count * 6] or empty
+  std::vector<float> face_strength;  ///< [face_count] or empty (1)
   /// [face_count * 3] the edge from corner c is a cut or tear; empty: every border edge counts as one
   std::vector<std::uint8_t> corner_torn;
   Topology topo;
@@ -44,8 +44,8 @@ struct CrackMesh {
 /// What one substep's growth cuts: the paths, and what the report counts.
 struct CrackPlan {
   std::vector<CutLine> cuts;
-  int events = 0;       ///< tips advanced or joined, and cracks started
-  double length = 0;    ///< rest length of the paths, metres
+  int events = 0;     ///< tips advanced or joined, and cracks started
+  double length = 0;  ///< rest length of the paths, metres
 };
 
 /// Where `CrackField::plan` looks, for a check on the backend that lets a substep where nothing can
@@ -53,12 +53,16 @@ struct CrackPlan {
 /// open from the border) and the faces where a new crack may start. Rest-space data, fixed while
 /// the mesh is.
 struct CrackProbes {
-  std::vector<index_t> offsets{0};       ///< [probes + 1] into `faces`
-  std::vector<index_t> faces;            ///< each disc's faces, in the order `smoothed` sums them
-  std::vector<double> normal;            ///< [probes * 3] the plane the disc's stretch is measured in
-  std::vector<double> limit;             ///< [probes] the least limit held against it, before the strength
-  std::vector<double> gain;              ///< [probes] the most a direction's choice scales the opening stretch by
-  std::vector<std::uint8_t> may_start;   ///< [faces] a new crack may start there (away from cracks and tips)
+  std::vector<index_t> offsets{0};      ///< [probes + 1] into `faces`
+  std::vector<index_t> faces;           ///< each disc's faces, in the order `smoothed` sums them
+  std::vector<double> normal;           ///< [probes * 3] the plane the disc's stretch is measured in
+  std::vector<double> limit;            ///< [probes] the least limit held against it, before the strength
+  std::vector<double> gain;             ///< [probes] the most a direction's choice scales the opening stretch by
+  std::vector<std::uint8_t> may_start;  ///< [faces] a new crack may start there (away from cracks and tips)
+  /// The grid of faces by rest centroid the start candidates' discs are gathered from (kernels::FaceGrid).
+  std::vector<std::int64_t> cell_key;
+  std::vector<index_t> cell_face;
+  double cell = 1, radius = 1;  ///< the grid's cell and the smoothing disc's radius, metres
   std::size_t count() const { return limit.size(); }
 };
 
@@ -84,10 +88,11 @@ class CrackField {
   /// The discs and faces `plan` looks at (CrackProbes).
   CrackProbes probes() const;
   /// Whether `plan` may cut anything: a probe's opening stretch over its limit may pass 1 (`sums`
-  /// [probes * 8]: per disc the area-weighted tensor, strength and area, kernels::probe_sums), or a
-  /// face that may start a crack is stretched past `start` (`start_stretch`: the largest stretch over
-  /// strength of those faces). Conservative: where it says no, `plan` cuts nothing.
-  bool may_cut(const CrackProbes& probes, const std::vector<double>& sums, double start_stretch) const;
+  /// [probes * 8]: per disc the area-weighted tensor, strength and area, kernels::disc_term), or a
+  /// new crack may start (`start_ratio`: the largest smoothed stretch over the start limit of a
+  /// face that may start one, kernels::start_ratio_of). Conservative: where it says no, `plan` cuts
+  /// nothing.
+  bool may_cut(const CrackProbes& probes, const std::vector<double>& sums, double start_ratio) const;
   /// The crack tips: border nodes whose rest angle sum passes 1.5π.
   const std::vector<index_t>& tips() const { return tips_; }
 
@@ -119,8 +124,8 @@ class CrackField {
   bool seam_start(const std::vector<double>& tensors, const std::vector<index_t>& loaded, double& best,
                   std::vector<Vec3>& path) const;
   /// The path of a new crack, if one starts: not in the pieces `loaded` (sorted) whose tips bear load.
-  bool start(const std::vector<double>& tensors, const std::vector<double>& stretch,
-             const std::vector<index_t>& loaded, std::vector<Vec3>& path) const;
+  bool start(const std::vector<double>& tensors, const std::vector<double>& stretch, const std::vector<index_t>& loaded,
+             std::vector<Vec3>& path) const;
   /// The nearest point of a border edge not within `exclude_walk` of node `from` along the border,
   /// ahead of `p` along `d` (or anywhere with `d` null), within `reach`; false when none.
   bool nearest_border(const Vec3& p, const Vec3* d, double reach, index_t from, Vec3& point, index_t& edge) const;
@@ -139,7 +144,7 @@ class CrackField {
   std::vector<std::uint8_t> edge_seam_, node_near_tip_;
   std::vector<index_t> tips_;
   std::vector<std::uint8_t> may_start_;  // [face_count] !near_crack(centroid)
-  std::vector<index_t> node_piece_;  // [node_count] the piece's lowest node
+  std::vector<index_t> node_piece_;      // [node_count] the piece's lowest node
   // Faces by grid cell of side `radius` over their rest centroids: sorted cell keys and faces.
   std::vector<std::int64_t> cell_key_;
   std::vector<index_t> cell_face_;
