@@ -105,6 +105,51 @@ void put_sample_line(Text& text, int frame, const char* value, std::size_t size)
   text << ",\n";
 }
 
+namespace {
+
+/// The accelerations of a frame: (v - v_before) / dt for the nodes the frame before had; 0 for the
+/// others, and without velocities or a frame before.
+void put_accelerations(Text& text, const FrameSamples& samples) {
+  const Mesh& mesh = samples.mesh;
+  const std::size_t node_count = static_cast<std::size_t>(mesh.node_count());
+  const std::vector<float>* before = samples.previous_vel;
+  const std::size_t known = mesh.has_velocities() && before ? std::min(node_count, before->size() / 3) : 0;
+  for (std::size_t n = 0; n < node_count; ++n) {
+    if (n) text << ", ";
+    float value[3] = {0, 0, 0};
+    for (int k = 0; n < known && k < 3; ++k)
+      value[k] = static_cast<float>((double(mesh.node_vel[3 * n + k]) - (*before)[3 * n + k]) * samples.per_second);
+    text.tuple(value, 3);
+  }
+}
+
+/// The extent of a frame's points: its two corners (nothing for no points).
+void put_extent(Text& text, const Mesh& mesh) {
+  const std::size_t node_count = static_cast<std::size_t>(mesh.node_count());
+  if (node_count == 0) return;
+  float lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) lo[k] = hi[k] = mesh.node_pos[k];
+  for (std::size_t n = 1; n < node_count; ++n)
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::min(lo[k], mesh.node_pos[3 * n + k]);
+      hi[k] = std::max(hi[k], mesh.node_pos[3 * n + k]);
+    }
+  text.tuple(lo, 3);
+  text << ", ";
+  text.tuple(hi, 3);
+}
+
+/// Per corner, whether the edge from it is torn: 1 or 0.
+void put_tear_edge(Text& text, const Mesh& mesh) {
+  const std::vector<char> marks = corner_tear_edge(mesh);
+  for (std::size_t c = 0; c < mesh.face_nodes.size(); ++c) {
+    if (c) text << ", ";
+    text << (marks[c] ? '1' : '0');
+  }
+}
+
+}  // namespace
+
 /// Appends the value of attribute `a` of a frame: `[...]`.
 void put_value(Text& text, Attribute a, const FrameSamples& samples) {
   const Mesh& mesh = samples.mesh;
@@ -138,34 +183,12 @@ void put_value(Text& text, Attribute a, const FrameSamples& samples) {
       }
       break;
     }
-    case Attribute::accelerations: {
-      // (v - v_before) / dt for the nodes the frame before had; 0 for the others, and without
-      // velocities or a frame before.
-      const std::vector<float>* before = samples.previous_vel;
-      const std::size_t known = mesh.has_velocities() && before ? std::min(node_count, before->size() / 3) : 0;
-      for (std::size_t n = 0; n < node_count; ++n) {
-        if (n) text << ", ";
-        float value[3] = {0, 0, 0};
-        for (int k = 0; n < known && k < 3; ++k)
-          value[k] = static_cast<float>((double(mesh.node_vel[3 * n + k]) - (*before)[3 * n + k]) * samples.per_second);
-        text.tuple(value, 3);
-      }
+    case Attribute::accelerations:
+      put_accelerations(text, samples);
       break;
-    }
-    case Attribute::extent: {
-      if (node_count == 0) break;
-      float lo[3], hi[3];
-      for (int k = 0; k < 3; ++k) lo[k] = hi[k] = mesh.node_pos[k];
-      for (std::size_t n = 1; n < node_count; ++n)
-        for (int k = 0; k < 3; ++k) {
-          lo[k] = std::min(lo[k], mesh.node_pos[3 * n + k]);
-          hi[k] = std::max(hi[k], mesh.node_pos[3 * n + k]);
-        }
-      text.tuple(lo, 3);
-      text << ", ";
-      text.tuple(hi, 3);
+    case Attribute::extent:
+      put_extent(text, mesh);
       break;
-    }
     case Attribute::normals:
       put_indexed_values(text, mesh.corner_normal, samples.normals, 3);
       break;
@@ -178,14 +201,9 @@ void put_value(Text& text, Attribute a, const FrameSamples& samples) {
     case Attribute::st_indices:
       put_ints(text, samples.st.corner_value);
       break;
-    case Attribute::tear_edge: {
-      const std::vector<char> marks = corner_tear_edge(mesh);
-      for (std::size_t c = 0; c < corner_count; ++c) {
-        if (c) text << ", ";
-        text << (marks[c] ? '1' : '0');
-      }
+    case Attribute::tear_edge:
+      put_tear_edge(text, mesh);
       break;
-    }
     case Attribute::piece:
       for (std::size_t f = 0; f < corner_count / 3; ++f) {
         if (f) text << ", ";
