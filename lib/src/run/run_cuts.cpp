@@ -166,8 +166,17 @@ void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const Fram
   check_frame_count(script, frame_count);
   if (script.simulation && !cloth.simulated()) cloth.simulate(*script.simulation);
   const CutOptions cut_options{script.snap};
+  // The cuts ordered by frame (script order within one), walked once: not every cut looked at for
+  // every frame, which a script of 100,000 cuts over 1,000,000 frames would make 1e11 looks.
+  std::vector<const Cut*> by_frame;
+  by_frame.reserve(script.cuts.size());
+  for (const Cut& cut : script.cuts) by_frame.push_back(&cut);
+  std::stable_sort(by_frame.begin(), by_frame.end(), [](const Cut* a, const Cut* b) { return a->frame < b->frame; });
+  auto next_cut = std::lower_bound(by_frame.begin(), by_frame.end(), first_frame,
+                                   [](const Cut* cut, int frame) { return cut->frame < frame; });
   for (int frame = first_frame; frame <= frame_count; ++frame) {
-    const std::vector<const Cut*> cuts = script.cuts_of_frame(frame);
+    std::vector<const Cut*> cuts;
+    for (; next_cut != by_frame.end() && (*next_cut)->frame == frame; ++next_cut) cuts.push_back(*next_cut);
     FrameResult result;
     result.frame = frame;
     result.output_frame = frame;
