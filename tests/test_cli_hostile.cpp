@@ -374,3 +374,36 @@ TEST_CASE("validate: a script of 80,000 cuts is read in time linear in its cuts"
   dir.file("twice.json", R"({"version":1,"frames":1,"cuts":[{"frame":1,"frame":1}]})");
   check_refused(timed_tear(dir, "validate twice.json"), 2, "twice.json: cuts[0].frame: duplicate key");
 }
+
+TEST_CASE("frames: degenerate or inverted faces are counted in the report and warned about; --strict stops",
+          "[hostile][cli]") {
+  TempDir dir;
+  // All nodes held, the middle one moved 0.6 m along x in frame 1: past its neighbours, so faces
+  // around it turn over.
+  tear::SheetOptions options;
+  options.face_count = 32;
+  options.irregular = false;
+  const tear::Mesh sheet = tear::make_sheet(options);
+  REQUIRE(sheet.node_count() == 25);
+  tear::write_mesh(sheet, (dir / "sheet.obj").string());
+  dir.file("push.json", R"({"version": 1, "frames": 2, "simulation": {"gravity": [0, 0, 0], "pins": [
+    {"nodes": [12], "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 1, "offset": [0.6, 0, 0]}]},
+    {"box": {"min": [-1, -1, -1], "max": [2, 2, 1]}}]}})");
+  const Run run = timed_tear(dir, "run sheet.obj push.json -o out/f.####.obj --report out/report.json");
+  INFO(run.err);
+  CHECK(run.exit_code == 0);
+  CHECK(run.err.find("tear: warning: out/f.0001.obj: frame 1 has 2 inverted faces\n") != std::string::npos);
+  const std::string report = tear::test::read_bytes(dir / "out" / "report.json");
+  CHECK(report.find("\"inverted_faces\": 2") != std::string::npos);
+  CHECK(report.find("\"degenerate_faces\": 0") != std::string::npos);
+  fs::remove_all(dir / "out");
+  const Run strict = timed_tear(dir, "run sheet.obj push.json -o out/f.####.obj --strict");
+  check_refused(strict, 3, "out/f.0001.obj: frame 1 has 2 inverted faces (--strict)");
+  CHECK_FALSE(fs::exists(dir / "out" / "f.0002.obj"));
+  // A sheet that only hangs has nothing to say.
+  dir.file("hold.json", R"({"version": 1, "frames": 2, "simulation": {"pins": [{"box": {"min": [-1, 0.9, -1], "max": [2, 2, 1]}}]}})");
+  const Run quiet = timed_tear(dir, "run sheet.obj hold.json -o out/g.####.obj --strict");
+  INFO(quiet.err);
+  CHECK(quiet.exit_code == 0);
+  CHECK(quiet.err.empty());
+}
