@@ -107,11 +107,35 @@ TEAR_HD inline void sort_network(T* v) {
 /// cut makes about half as many), and a split gives a corner node one or two more.
 inline constexpr int small_run = 8, medium_run = 16;
 
+/// Sorts a[0, size) ascending by heapsort: O(size log size) whatever the order (an insertion sort
+/// of the long run of a node in 300,000 faces took minutes), in place, without recursion.
+template <class T>
+TEAR_HD inline void heap_sort(T* a, index_t size) {
+  auto sift_down = [a](index_t root, index_t end) {
+    const T v = a[root];
+    for (index_t child = 2 * root + 1; child < end; child = 2 * root + 1) {
+      if (child + 1 < end && a[child] < a[child + 1]) ++child;
+      if (!(v < a[child])) break;
+      a[root] = a[child];
+      root = child;
+    }
+    a[root] = v;
+  };
+  for (index_t i = size / 2; i-- > 0;) sift_down(i, size);
+  for (index_t end = size - 1; end > 0; --end) {
+    const T top = a[0];
+    a[0] = a[end];
+    a[end] = top;
+    sift_down(0, end);
+  }
+}
+
 /// Sorts run n of a CSR ascending. For node→faces, a face that repeats the node appears once per
 /// corner, adjacent after the sort. A run of up to `medium_run` values is sorted by a network in
 /// registers; a longer one of up to `local_capacity` is loaded at once (independent loads), sorted
 /// in the thread's own memory and stored: sorting in place, each step would wait for a load of what
-/// the step before stored.
+/// the step before stored. A longer run still (a node of a fan or of repeated faces) is heapsorted
+/// in place.
 struct sort_runs {
   static constexpr int local_capacity = 32;
   const index_t* offset;
@@ -139,7 +163,7 @@ struct sort_runs {
     if (size <= small_run) return sort_in_registers<small_run>(begin, size);
     if (size <= medium_run) return sort_in_registers<medium_run>(begin, size);
     if (size > local_capacity) {
-      insertion_sort(values + begin, size);
+      heap_sort(values + begin, size);
       return;
     }
     index_t run[local_capacity];
@@ -282,27 +306,124 @@ TEAR_HD inline bool for_each_small_node_edge(const index_t* face_nodes, const in
   return false;
 }
 
-/// Calls visit(edge) for each edge whose lower node is n, higher ends ascending: from registers
-/// (above), from the one-pass list, or edge by edge when the node has more edges than the list
-/// holds.
+/// Calls visit(edge) for each edge whose lower node is n, higher ends ascending, from registers
+/// (above) or from the one-pass list; false, visiting nothing, when the node has more edges than
+/// the list holds.
+template <class Visit>
+TEAR_HD inline bool for_each_node_edge_in_one_pass(const index_t* face_nodes, const index_t* node_face_offset,
+                                                   const index_t* node_faces, index_t n, Visit visit) {
+  if (for_each_small_node_edge(face_nodes, node_face_offset, node_faces, n, visit)) return true;
+  NodeEdgeList list;
+  list.gather(face_nodes, node_face_offset, node_faces, n);
+  if (list.overflow) return false;
+  for (int j = 0; j < list.size; ++j) visit(list.edge[j]);
+  return true;
+}
+
+/// Calls visit(edge) for each edge whose lower node is n, higher ends ascending: in one pass
+/// (above), or edge by edge when the node has more edges than the list holds (a pass over its
+/// faces per edge: a build sorts such a node's half-edges instead, `sort_node_half_edges`).
 template <class Visit>
 TEAR_HD inline void for_each_node_edge(const index_t* face_nodes, const index_t* node_face_offset,
                                        const index_t* node_faces, index_t n, Visit visit) {
-  if (for_each_small_node_edge(face_nodes, node_face_offset, node_faces, n, visit)) return;
-  NodeEdgeList list;
-  list.gather(face_nodes, node_face_offset, node_faces, n);
-  if (!list.overflow) {
-    for (int j = 0; j < list.size; ++j) visit(list.edge[j]);
-    return;
-  }
+  if (for_each_node_edge_in_one_pass(face_nodes, node_face_offset, node_faces, n, visit)) return;
   for (index_t end = next_edge_end(face_nodes, node_face_offset, node_faces, n, -1); end >= 0;
        end = next_edge_end(face_nodes, node_face_offset, node_faces, n, end))
     visit(edge_to(face_nodes, node_face_offset, node_faces, n, end));
 }
 
-/// Number of edges whose lower node is n: the distinct higher ends of its half-edges. Run over one
-/// index more than the nodes: that thread writes the 0 after the counts, which their exclusive
-/// scan turns into the edge count.
+// A node of many edges (the first corner of a fanned polygon of 10M corners, a node of 300,000
+// copies of one triangle) would cost a pass over its faces per edge: quadratic. A build counts the
+// lower half-edges of the nodes whose edges do not fit the one-pass list, and when there are any,
+// sorts the half-edges of every node of more than `medium_run` faces as 64-bit keys (higher end,
+// face) in a slice of its own, and counts and writes those nodes' edges from the sorted keys.
+
+/// The half-edges of node n's faces whose lower end is n: the number `for_each_lower_half_edge`
+/// visits.
+TEAR_HD inline index_t count_lower_half_edges(const index_t* face_nodes, const index_t* node_face_offset,
+                                              const index_t* node_faces, index_t n) {
+  index_t count = 0;
+  for_each_lower_half_edge(face_nodes, node_face_offset, node_faces, n, [&](index_t, index_t) {
+    ++count;
+    return true;
+  });
+  return count;
+}
+
+/// Calls visit(edge) for each edge of `keys` [count], node n's lower half-edges as (higher end << 32
+/// | face), sorted: the edges `for_each_node_edge` visits, in its order.
+template <class Visit>
+TEAR_HD inline void for_each_sorted_edge(const std::uint64_t* keys, index_t count, Visit visit) {
+  NodeEdge edge;
+  for (index_t i = 0; i < count; ++i) {
+    const index_t end = static_cast<index_t>(keys[i] >> 32);
+    if (end != edge.end) {
+      if (edge.end >= 0) visit(edge);
+      edge = NodeEdge{};
+      edge.end = end;
+    }
+    edge.add_face(static_cast<index_t>(keys[i] & 0xffffffffu));
+  }
+  if (edge.end >= 0) visit(edge);
+}
+
+/// Whether node n's edges are taken from sorted keys when a build sorts any.
+TEAR_HD inline bool sorts_half_edges(const index_t* node_face_offset, index_t n) {
+  return node_face_offset[n + 1] - node_face_offset[n] > medium_run;
+}
+
+/// Room for the keys of node n (its lower half-edges when `sorts_half_edges`, else none); run over
+/// one index more than the nodes, whose thread writes the 0 the scan turns into the total.
+struct count_half_edge_keys {
+  const index_t* face_nodes;
+  const index_t* node_face_offset;
+  const index_t* node_faces;
+  index_t node_count;
+  index_t* key_count;
+  TEAR_HD void operator()(index_t n) const {
+    key_count[n] = n < node_count && sorts_half_edges(node_face_offset, n)
+                       ? count_lower_half_edges(face_nodes, node_face_offset, node_faces, n)
+                       : 0;
+  }
+};
+
+/// Node n's lower half-edges as keys in its slice [key_offset[n], key_offset[n + 1]), sorted, and its
+/// edge count from them. Run over one index more than the nodes: that thread clears the count of
+/// half-edges left uncounted (`count_node_edges`).
+struct sort_node_half_edges {
+  const index_t* face_nodes;
+  const index_t* node_face_offset;
+  const index_t* node_faces;
+  const index_t* key_offset;
+  std::uint64_t* keys;
+  index_t node_count;
+  index_t* node_edge_count;
+  TEAR_HD void operator()(index_t n) const {
+    if (n == node_count) {
+      node_edge_count[n] = 0;
+      return;
+    }
+    const index_t begin = key_offset[n], size = key_offset[n + 1] - begin;
+    if (size == 0) return;
+    std::uint64_t* key = keys + begin;
+    index_t i = 0;
+    for_each_lower_half_edge(face_nodes, node_face_offset, node_faces, n, [&](index_t hi, index_t f) {
+      key[i++] = (static_cast<std::uint64_t>(hi) << 32) | static_cast<std::uint32_t>(f);
+      return true;
+    });
+    heap_sort(key, size);
+    index_t count = 0;
+    for_each_sorted_edge(key, size, [&](const NodeEdge&) { ++count; });
+    node_edge_count[n] = count;
+  }
+};
+
+/// Number of edges whose lower node is n: the distinct higher ends of its half-edges. Run over two
+/// indices more than the nodes. A node whose edges do not fit the one-pass list counts 0 here and
+/// adds its lower half-edges to node_edge_count[node_count], which must be 0 before (so that a
+/// build knows to sort them, `sort_node_half_edges`); the last thread writes the 0 after it. An
+/// exclusive scan of node_count + 2 counts then ends in the edge count and, one further, the edge
+/// count plus those half-edges.
 struct count_node_edges {
   const index_t* face_nodes;
   const index_t* node_face_offset;
@@ -310,12 +431,17 @@ struct count_node_edges {
   index_t* node_edge_count;
   index_t node_count;
   TEAR_HD void operator()(index_t n) const {
-    if (n == node_count) {
-      node_edge_count[n] = 0;
+    if (n >= node_count) {
+      if (n == node_count + 1) node_edge_count[n] = 0;
       return;
     }
     index_t count = 0;
-    for_each_node_edge(face_nodes, node_face_offset, node_faces, n, [&](const NodeEdge&) { ++count; });
+    if (!for_each_node_edge_in_one_pass(face_nodes, node_face_offset, node_faces, n,
+                                        [&](const NodeEdge&) { ++count; })) {
+      atomic_fetch_add(&node_edge_count[node_count],
+                       count_lower_half_edges(face_nodes, node_face_offset, node_faces, n));
+      count = 0;
+    }
     node_edge_count[n] = count;
   }
 };
@@ -341,9 +467,17 @@ struct write_node_edges {
     edge_boundary[e] = edge.count == 1 ? 1 : 0;
   }
 
+  /// The sorted half-edges of `sort_node_half_edges`, when a build made them (else null).
+  const index_t* key_offset = nullptr;
+  const std::uint64_t* keys = nullptr;
+
   TEAR_HD void operator()(index_t n) const {
     index_t e = node_edge_offset[n];
-    for_each_node_edge(face_nodes, node_face_offset, node_faces, n, [&](const NodeEdge& edge) { write(e++, n, edge); });
+    auto visit = [&](const NodeEdge& edge) { write(e++, n, edge); };
+    if (keys && key_offset[n + 1] > key_offset[n])
+      for_each_sorted_edge(keys + key_offset[n], key_offset[n + 1] - key_offset[n], visit);
+    else
+      for_each_node_edge(face_nodes, node_face_offset, node_faces, n, visit);
   }
 };
 
@@ -519,7 +653,7 @@ struct count_patched_edges {
       return;
     }
     if (n < count.node_count) sort(n);
-    count(n);
+    count(n);  // the ends, n >= node_count, as a build's
   }
 };
 

@@ -307,3 +307,103 @@ TEST_CASE("validate: at most 256 cuts are tried on the mesh, however long the sc
   CHECK(run.err.find("many.json: only the first 256 polyline cuts were tried on the rest shape of sheet.obj (44 more "
                      "not tried)") != std::string::npos);
 }
+
+TEST_CASE("reading: small files of one face repeated, one huge polygon or many concave ones end, as they should",
+          "[hostile][cli]") {
+  // Each took minutes to hours on 2 cores (work quadratic in a node's faces, or in the corners of
+  // an ear-clipped polygon); made here, not kept (megabytes each). timed_tear stops a command after
+  // 60 s, which a regression would reach.
+  TempDir dir;
+  // 300,000 copies of one triangle (2.4 MB): read, reported, refused as not cuttable.
+  std::string repeated = "v 0 0 0\nv 1 0 0\nv 0 1 0\n";
+  for (int i = 0; i < 300000; ++i) repeated += "f 1 2 3\n";
+  dir.file("repeated.obj", repeated);
+  const Run info = timed_tear(dir, "info repeated.obj --json");
+  INFO(info.err);
+  CHECK(info.exit_code == 0);
+  CHECK(info.out.find("\"duplicate_faces\":300000") != std::string::npos);
+  write_sheet(dir);
+  check_refused(timed_tear(dir, "run repeated.obj cut.json --frames 1 -o out/f.obj"), 2,
+                "repeated.obj: cannot be cut: 3 non-manifold edges (more than two faces), 3 non-manifold (bow-tie) "
+                "nodes, 300000 faces on the same three nodes as another face");
+
+  // One polygon of 200,000 corners on a circle (6 MB): fanned from its first corner, whose 199,998
+  // faces and edges are one node's.
+  std::string polygon, face = "f";
+  const int corners = 200000;
+  for (int i = 0; i < corners; ++i) {
+    const double a = 6.283185307179586 * i / corners;
+    polygon += "v " + std::to_string(std::cos(a)) + " " + std::to_string(std::sin(a)) + " 0\n";
+    face += " " + std::to_string(i + 1);
+  }
+  dir.file("polygon.obj", polygon + face + "\n");
+  const Run fan = timed_tear(dir, "info polygon.obj --json");
+  INFO(fan.err);
+  CHECK(fan.exit_code == 0);
+  CHECK(fan.out.find("\"faces\":199998") != std::string::npos);
+
+  // 6,000 concave 128-gons, stars on the same 128 nodes (3 MB): ear-clipped, each corner's faces
+  // in the thousands.
+  std::string stars, star = "f";
+  for (int i = 0; i < 128; ++i) {
+    const double a = 6.283185307179586 * i / 128, r = i % 2 ? 0.3 : 1.0;
+    stars += "v " + std::to_string(r * std::cos(a)) + " " + std::to_string(r * std::sin(a)) + " 0\n";
+    star += " " + std::to_string(i + 1);
+  }
+  for (int i = 0; i < 6000; ++i) stars += star + "\n";
+  dir.file("stars.obj", stars);
+  const Run concave = timed_tear(dir, "info stars.obj --json");
+  INFO(concave.err);
+  CHECK(concave.exit_code == 0);
+  CHECK(concave.out.find("\"faces\":756000") != std::string::npos);
+}
+
+TEST_CASE("validate: a script of 80,000 cuts is read in time linear in its cuts", "[hostile][cli]") {
+  // nlohmann's parse callback made each cut scan the cuts before it (80,000 cuts: seconds).
+  TempDir dir;
+  write_sheet(dir);
+  std::string cuts;
+  for (int i = 0; i < 80000; ++i)
+    cuts += std::string(i ? "," : "") + R"({"frame":1,"space":"uv","polyline":[[0,0],[1,1]]})";
+  dir.file("many.json", R"({"version":1,"frames":1,"cuts":[)" + cuts + "]}");
+  const Run run = timed_tear(dir, "validate many.json");
+  INFO(run.err);
+  CHECK(run.exit_code == 0);
+  CHECK(run.out == "many.json: ok (80000 cuts over 1 frame)\n");
+  // A duplicate key still names its key path, found while parsing.
+  dir.file("twice.json", R"({"version":1,"frames":1,"cuts":[{"frame":1,"frame":1}]})");
+  check_refused(timed_tear(dir, "validate twice.json"), 2, "twice.json: cuts[0].frame: duplicate key");
+}
+
+TEST_CASE("frames: degenerate or inverted faces are counted in the report and warned about; --strict stops",
+          "[hostile][cli]") {
+  TempDir dir;
+  // All nodes held, the middle one moved 0.6 m along x in frame 1: past its neighbours, so faces
+  // around it turn over.
+  tear::SheetOptions options;
+  options.face_count = 32;
+  options.irregular = false;
+  const tear::Mesh sheet = tear::make_sheet(options);
+  REQUIRE(sheet.node_count() == 25);
+  tear::write_mesh(sheet, (dir / "sheet.obj").string());
+  dir.file("push.json", R"({"version": 1, "frames": 2, "simulation": {"gravity": [0, 0, 0], "pins": [
+    {"nodes": [12], "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 1, "offset": [0.6, 0, 0]}]},
+    {"box": {"min": [-1, -1, -1], "max": [2, 2, 1]}}]}})");
+  const Run run = timed_tear(dir, "run sheet.obj push.json -o out/f.####.obj --report out/report.json");
+  INFO(run.err);
+  CHECK(run.exit_code == 0);
+  CHECK(run.err.find("tear: warning: out/f.0001.obj: frame 1 has 2 inverted faces\n") != std::string::npos);
+  const std::string report = tear::test::read_bytes(dir / "out" / "report.json");
+  CHECK(report.find("\"inverted_faces\": 2") != std::string::npos);
+  CHECK(report.find("\"degenerate_faces\": 0") != std::string::npos);
+  fs::remove_all(dir / "out");
+  const Run strict = timed_tear(dir, "run sheet.obj push.json -o out/f.####.obj --strict");
+  check_refused(strict, 3, "out/f.0001.obj: frame 1 has 2 inverted faces (--strict)");
+  CHECK_FALSE(fs::exists(dir / "out" / "f.0002.obj"));
+  // A sheet that only hangs has nothing to say.
+  dir.file("hold.json", R"({"version": 1, "frames": 2, "simulation": {"pins": [{"box": {"min": [-1, 0.9, -1], "max": [2, 2, 1]}}]}})");
+  const Run quiet = timed_tear(dir, "run sheet.obj hold.json -o out/g.####.obj --strict");
+  INFO(quiet.err);
+  CHECK(quiet.exit_code == 0);
+  CHECK(quiet.err.empty());
+}

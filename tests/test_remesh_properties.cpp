@@ -377,6 +377,30 @@ TEST_CASE("remesh properties: cuts across large sheets patch the topology a buil
   }
 }
 
+TEST_CASE("remesh properties: cuts beside and through a node of hundreds of faces patch the topology a build would "
+          "make",
+          "[remesh][property]") {
+  // A disc fanned from its centre: the centre's edges are too many for one pass over its faces, so
+  // the patch sorts its half-edges, whether the cut splits the centre or passes beside it.
+  const index_t rim = 300;
+  Mesh disc;
+  disc.node_pos = {0, 0, 0};
+  for (index_t i = 0; i < rim; ++i) {
+    const double a = 6.283185307179586 * i / rim;
+    disc.node_pos.insert(disc.node_pos.end(), {float(std::cos(a)), float(std::sin(a)), 0.0f});
+  }
+  for (index_t i = 0; i < rim; ++i) disc.face_nodes.insert(disc.face_nodes.end(), {0, 1 + i, 1 + (i + 1) % rim});
+  for (const double y : {0.5, 0.0013}) {
+    INFO("cut at y = " << y);
+    Cloth cloth(disc, tear::test::test_device());
+    const CutStats stats = cloth.cut({tear::test::cut_rest_xy({{-1.5, y}, {1.5, y + 0.01}})});
+    CHECK(stats.faces_after > stats.faces_before);
+    CHECK(tear::test::topology_difference(cloth.topology(), build_topology(cloth.mesh(), tear::test::test_device())) ==
+          "");
+    CHECK(tear::test::topology_difference(cloth.topology(), tear::test::reference_topology(cloth.mesh())) == "");
+  }
+}
+
 TEST_CASE("remesh properties: a straight line across a sheet makes two pieces and twice its length of border",
           "[remesh][property]") {
   // The tear is a path of chords, one per face crossed, from border to border; both sides of it

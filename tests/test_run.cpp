@@ -378,3 +378,30 @@ TEST_CASE("run: two faces on the same three nodes are refused before anything is
   CHECK(info.out.find("duplicate faces:      2 (on the same three nodes as another face)") != std::string::npos);
   CHECK(info.out.find("cuttable:             no: 2 faces on the same three nodes") != std::string::npos);
 }
+
+TEST_CASE("face_quality: degenerate and inverted faces of a frame", "[run]") {
+  tear::SheetOptions options;
+  options.face_count = 200;
+  options.irregular = false;
+  tear::Mesh mesh = tear::make_sheet(options);
+  CHECK_FALSE(tear::face_quality(mesh).any());
+  // A fold of the whole sheet, or the sheet upside down, is no damage.
+  tear::Mesh flipped = mesh;
+  for (std::size_t n = 0; n < flipped.node_pos.size(); n += 3) flipped.node_pos[n] = -flipped.node_pos[n];
+  CHECK_FALSE(tear::face_quality(flipped).any());
+  // An inner node pushed past its neighbours turns faces over.
+  const tear::index_t inner = 5 * 11 + 5;  // the middle of a regular 10 x 10 sheet
+  REQUIRE(mesh.node_count() == 121);
+  tear::Mesh pushed = mesh;
+  pushed.node_pos[3 * inner] += 0.25f;
+  const tear::FaceQuality turned = tear::face_quality(pushed);
+  CHECK(turned.inverted > 0);
+  CHECK(turned.degenerate == 0);
+  // A node moved onto its neighbour's position leaves faces of no area.
+  tear::Mesh squashed = mesh;
+  for (int a = 0; a < 3; ++a) squashed.node_pos[3 * inner + a] = squashed.node_pos[3 * (inner + 1) + a];
+  const tear::FaceQuality flat = tear::face_quality(squashed);
+  CHECK(flat.degenerate == 2);
+  CHECK(flat.describe().rfind("2 degenerate faces", 0) == 0);
+  CHECK(tear::FaceQuality{1, 1}.describe() == "1 degenerate face and 1 inverted face");
+}

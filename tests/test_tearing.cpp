@@ -216,6 +216,53 @@ TEST_CASE("tearing: the keys are read with their defaults", "[tearing]") {
   CHECK(on.tearing.snap == 0.1);  // the script's
   const tear::SimulationOptions capped = parse(R"({"tearing": {"stretch": 1000, "max_faces_per_step": 3}})");
   CHECK(capped.tearing.max_faces_per_step == 3);
+  // The face budget: 8 times the faces the simulation starts with, at least 100,000; or as given.
+  CHECK(on.tearing.max_faces == 0);
+  CHECK(on.tearing.face_budget(800) == 100000);
+  CHECK(on.tearing.face_budget(50000) == 400000);
+  CHECK(on.tearing.face_budget(500000000) == 715827882);
+  const tear::SimulationOptions budget = parse(R"({"tearing": {"stretch": 2, "max_faces": 1000}})");
+  CHECK(budget.tearing.face_budget(50000) == 1000);
+}
+
+TEST_CASE("tearing: a tear past tearing.max_faces stops the run, naming the key", "[tearing]") {
+  // The pull scene's notch leaves 806 faces, its tears 810 (frame 18), 820 (frame 19) and 822: a
+  // budget of 815 stops it in frame 19, frames 1 to 18 on disk.
+  TempDir dir;
+  tear::write_mesh(pull_sheet(), (dir / "sheet.obj").string());
+  std::string script = pull_script(1.3);
+  const std::string stretch = "\"stretch\": ";
+  script.insert(script.find(stretch), "\"max_faces\": 815, ");
+  const fs::path path = dir.file("pull.json", script);
+  const tear::test::Run run =
+      dir.tear("run " + tear::test::quoted(dir / "sheet.obj") + " " + tear::test::quoted(path) + " -o " +
+               tear::test::quoted(dir / "out" / "f.####.ply") + " --device " + tear::to_string(tear::test::test_device()));
+  INFO(run.err);
+  CHECK(run.exit_code == 3);
+  CHECK(run.err.rfind("tear: ", 0) == 0);
+  CHECK(std::count(run.err.begin(), run.err.end(), '\n') == 1);
+  CHECK(run.err.find("pull.json: frame ") != std::string::npos);
+  CHECK(run.err.find(": simulation.tearing.max_faces: tearing left the cloth with ") != std::string::npos);
+  CHECK(run.err.find(" faces, over the limit of 815; raise tearing.max_faces, or tearing.stretch so that less tears") !=
+        std::string::npos);
+  // The frames before the one that passed it are on disk.
+  CHECK(run.err.find("pull.json: frame 19: ") != std::string::npos);
+  CHECK(fs::exists(dir / "out" / "f.0018.ply"));
+  CHECK_FALSE(fs::exists(dir / "out" / "f.0019.ply"));
+  // The library: a budget set on the options, a runtime Error.
+  const tear::Mesh mesh = pull_sheet();
+  tear::Cloth cloth(mesh, tear::test::test_device());
+  const tear::CutScript pull = tear::parse_cut_script(pull_script(1.3), "pull.json");
+  tear::SimulationOptions small = *pull.simulation;
+  small.tearing.max_faces = mesh.face_count() + 10;
+  cloth.simulate(small);
+  try {
+    tear::run_cuts(cloth, pull, pull_frames, {});
+    FAIL("tore past the budget");
+  } catch (const tear::Error& e) {
+    CHECK(e.kind() == tear::ErrorKind::runtime);
+    CHECK(std::string(e.what()).find("simulation.tearing.max_faces") != std::string::npos);
+  }
 }
 
 TEST_CASE("tearing: every error names the file and the key path", "[tearing]") {
@@ -236,7 +283,11 @@ TEST_CASE("tearing: every error names the file and the key path", "[tearing]") {
        "simulation.tearing.max_faces_per_step: expected an integer in 1..100000000 (crack advances per substep), got 2.5"},
       {R"({"tearing": {"stretch": 2, "toughness": 3}})",
        "simulation.tearing.toughness: unknown key (expected stretch, start, radius, step, min_piece, "
-       "max_faces_per_step, weave, seam_strength, variation, seed or strength_map)"},
+       "max_faces_per_step, max_faces, weave, seam_strength, variation, seed or strength_map)"},
+      {R"({"tearing": {"stretch": 2, "max_faces": 0}})",
+       "simulation.tearing.max_faces: expected an integer in 1..715827882 (faces the cloth may tear to), got 0"},
+      {R"({"tearing": {"stretch": 2, "max_faces": 1e12}})",
+       "simulation.tearing.max_faces: expected an integer in 1..715827882 (faces the cloth may tear to), got 1000000000000.0"},
   };
   for (const auto& [text, message] : cases) {
     INFO(text);

@@ -241,6 +241,38 @@ TEST_CASE("topology: nodes of high valence match the serial reference", "[topolo
   }
 }
 
+TEST_CASE("topology: a node of thousands of faces and edges matches the serial reference", "[topology]") {
+  // The first corner of a fanned polygon and the nodes of one triangle repeated: their runs of faces
+  // are heap-sorted and their edges counted from their sorted half-edges (each had taken time
+  // quadratic in its faces), beside nodes of a few faces gathered as usual.
+  for (const bool centre_first : {true, false}) {
+    const index_t fan = 5000, copies = 3000;
+    std::vector<float> pos{0, 0, 0};
+    for (index_t i = 0; i < fan; ++i) {
+      const float a = 6.2831853f * static_cast<float>(i) / static_cast<float>(fan);
+      pos.insert(pos.end(), {std::cos(a), std::sin(a), 0.0f});
+    }
+    for (const float x : {3.0f, 4.0f, 3.0f}) pos.insert(pos.end(), {x, x == 4.0f ? 0.0f : 1.0f, 0.0f});
+    const index_t n = static_cast<index_t>(pos.size() / 3);
+    const auto id = [&](index_t v) { return centre_first ? v : n - 1 - v; };
+    Indices faces;
+    for (index_t i = 0; i < fan; ++i) faces.insert(faces.end(), {id(0), id(1 + i), id(1 + (i + 1) % fan)});
+    for (index_t i = 0; i < copies; ++i) faces.insert(faces.end(), {id(fan + 1), id(fan + 2), id(fan + 3)});
+    // Shuffled, so that the runs do not arrive in order.
+    tear::test::Random random(centre_first ? 5 : 6);
+    for (std::size_t f = faces.size() / 3; f > 1; --f) {
+      const std::size_t g = random.below(static_cast<index_t>(f));
+      for (int k = 0; k < 3; ++k) std::swap(faces[3 * (f - 1) + k], faces[3 * g + k]);
+    }
+    const tear::Mesh mesh = make_mesh(pos, faces);
+    INFO((centre_first ? "centre first" : "centre last"));
+    const tear::Topology t = tear::build_topology(mesh, tear::test::test_device());
+    CHECK(tear::test::topology_difference(t, tear::test::reference_topology(mesh)) == "");
+    const tear::MeshReport report = tear::validate_mesh(mesh, tear::test::test_device());
+    CHECK(report.duplicate_faces == copies);
+  }
+}
+
 TEST_CASE("topology: the sorting networks sort every input of zeros and ones", "[topology]") {
   // A comparator network sorts every input when it sorts every input of zeros and ones.
   auto check = [](auto sort, int size) {

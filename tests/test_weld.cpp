@@ -217,3 +217,51 @@ TEST_CASE("drop_unused_nodes: welds nothing, keeps order, drops what no face use
   CHECK(mesh.face_nodes == std::vector<tear::index_t>{0, 1, 2, 3, 1, 2});
   CHECK(mesh.node_vel == std::vector<float>{1, 1, 1, 2, 2, 2, 3, 3, 3, 4, 4, 4});
 }
+
+TEST_CASE("weld_nodes: the report counts faces lost to corners joined, not vertices the file split", "[weld]") {
+  // A split quad welds at its seam: nothing the file kept apart is joined.
+  tear::Mesh seam = split_quad(0.0f);
+  tear::WeldReport report;
+  tear::weld_nodes(seam, 0.0, &report);
+  CHECK(seam.face_count() == 2);
+  CHECK_FALSE(report.any());
+  CHECK(report.largest_coordinate == 1.0);
+
+  // A grid 1e7 m from the origin with 0.1 m between nodes: float32 has steps of 1 there, so its
+  // columns read as two positions, and only the faces across the step keep three nodes.
+  std::mt19937 rng(3);
+  tear::Mesh far = grid(10, 10, rng);
+  for (std::size_t n = 0; n < far.node_pos.size(); n += 3) {
+    const double x = 1e7 + 0.1 * static_cast<double>((n / 3) % 11);
+    far.node_pos[n] = static_cast<float>(x);
+    far.node_pos[n + 1] = static_cast<float>(0.1 * static_cast<double>((n / 3) / 11));
+    far.node_pos[n + 2] = 0;
+  }
+  report = tear::WeldReport{};
+  tear::weld_nodes(far, 0.0, &report);
+  CHECK(far.face_count() == 20);
+  CHECK(report.collapsed_faces == 180);
+  CHECK(report.joined_nodes == 99);  // 121 nodes become 22
+  CHECK(report.largest_coordinate == 1e7 + 1);
+  CHECK(report.describe() ==
+        "180 faces lost in reading: welding joined corners of theirs, different vertices in the file, into one node (99 "
+        "nodes lost so); coordinates reach 1e+07, where float32 has steps of 1");
+
+  // A tolerance longer than an edge joins the corners of a face too; a face the file itself made
+  // with a repeated vertex is dropped without being counted.
+  tear::Mesh close = split_quad(0.0f);
+  close.node_pos[3] = 0.001f;  // node 1 near node 0
+  close.face_nodes.insert(close.face_nodes.end(), {4, 4, 5});
+  report = tear::WeldReport{};
+  tear::weld_nodes(close, 0.01, &report);
+  CHECK(report.collapsed_faces == 1);
+  CHECK(report.joined_nodes == 1);
+
+  // Ids: two corners of one face that carry one id.
+  tear::Mesh ids = split_quad(0.5f);
+  report = tear::WeldReport{};
+  tear::weld_nodes_by_id(ids, {0, 1, 2, 1, 3, 3}, &report);
+  CHECK(ids.face_count() == 1);
+  CHECK(report.collapsed_faces == 1);
+  CHECK(report.joined_nodes == 1);
+}

@@ -103,11 +103,12 @@ RunCommandOptions shot_options(const nlohmann::json& shot, std::size_t index, co
     else if (name == "resume") options.farm.resume = get_bool(value, file, key);
     else if (name == "writer_threads") options.farm.writer_threads = get_int(value, file, key, 0, 256, "an integer in 0..256");
     else if (name == "verbose") options.verbose = get_bool(value, file, key);
+    else if (name == "strict") options.strict = get_bool(value, file, key);
     else
       throw shot_error(file, key,
                        "unknown key (a shot takes mesh, script, output, frames, start_frame, report, up_axis, "
                        "meters_per_unit, device, mesh_name, weld_tolerance, no_weld, checkpoint, checkpoint_every, "
-                       "resume, writer_threads, verbose)");
+                       "resume, writer_threads, verbose, strict)");
   }
   return options;
 }
@@ -176,7 +177,7 @@ void add_batch_command(CLI::App& app) {
   command->footer(
       "SHOTS.json is a list of objects: {\"mesh\": ..., \"script\": ..., \"output\": ...} and optionally frames, "
       "start_frame, report, up_axis, meters_per_unit, device, mesh_name, weld_tolerance, no_weld, checkpoint, "
-      "checkpoint_every, resume, writer_threads, verbose (docs/cli.md). Each shot writes, reports and fails as "
+      "checkpoint_every, resume, writer_threads, verbose, strict (docs/cli.md). Each shot writes, reports and fails as "
       "'tear run' would alone; a failed shot does not stop the others. Exit codes: 0 every shot ok, else the "
       "largest exit code of the failed shots (1 usage, 2 bad input, 3 runtime failure), 4 when stopped by "
       "SIGTERM/SIGINT (the shots after it are not run), 2 when SHOTS.json itself is unusable.");

@@ -60,10 +60,15 @@ void add_read_options(CLI::App& command, ReadOptions& options);
 /// (`options.max_faces`); part of `add_read_options`.
 void add_input_limits(CLI::App& command, ReadOptions& options);
 
+/// Adds `--strict` to `command`, stored in `strict`: warnings about the data (what reading did to
+/// it, and with `tear run` frames of degenerate or inverted faces) become failures, exit 3.
+void add_strict_option(CLI::App& command, bool& strict);
+
 /// Reads the mesh at `path` and checks its indices and coordinates on `device`: a face index out of
 /// range or a non-finite coordinate throws an input `Error` naming the file and the counts, so that
-/// what is returned can go to `build_topology`.
-Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Device device);
+/// what is returned can go to `build_topology`. What welding did to data the file kept apart
+/// (`WeldReport`) is a warning on standard error, or with `strict` a runtime `Error` (exit 3).
+Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Device device, bool strict = false);
 
 }  // namespace tear::cli
 

@@ -3,6 +3,7 @@
 #include <climits>
 #include <cmath>
 #include <cstdlib>
+#include <iostream>
 #include <new>
 #include <limits>
 #include <string>
@@ -111,12 +112,24 @@ void add_read_options(CLI::App& command, ReadOptions& options) {
       "PLY and glTF files, by position in others");
 }
 
-Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Device device) {
-  Mesh mesh = read_mesh(path, options);
+void add_strict_option(CLI::App& command, bool& strict) {
+  command.add_flag("--strict", strict,
+                   "Fail (exit 3) where the data is damaged instead of warning: reading that joined corners of one "
+                   "face (coordinates float32 cannot keep apart), and with 'tear run' a frame with degenerate or "
+                   "inverted faces");
+}
+
+Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Device device, bool strict) {
+  WeldReport welded;
+  Mesh mesh = read_mesh(path, options, welded);
   const MeshReport report = check_indices(mesh, device);
   if (!report.readable())
     throw input_error(path, report.describe() + " (the mesh has " + plural(mesh.node_count(), "node", "nodes") +
                                 " and " + plural(mesh.face_count(), "face", "faces") + ")");
+  if (welded.any()) {
+    if (strict) throw runtime_error(path + ": " + welded.describe() + " (--strict)");
+    std::cerr << "tear: warning: " << path << ": " << welded.describe() << '\n';
+  }
   return mesh;
 }
 

@@ -27,6 +27,7 @@ struct InfoOptions {
   bool json = false;
   std::string device = "auto";
   ReadOptions read;
+  bool strict = false;
 };
 
 std::string format_number(double x) {
@@ -93,7 +94,7 @@ void run_info(const InfoOptions& options) {
   const Device device = select_device(options.device);
   // The GPU's context is made while the input is read.
   const DeviceWarmUp warm_up(device);
-  const Mesh mesh = read_checked_mesh(options.mesh_path, options.read, device);
+  const Mesh mesh = read_checked_mesh(options.mesh_path, options.read, device, options.strict);
   const Topology topology = build_topology(mesh, device);
   const MeshReport report = validate_mesh(mesh, topology, device);
   const MeshInfo info = compute_mesh_info(mesh, topology, report);
@@ -128,6 +129,7 @@ void add_info_command(CLI::App& app) {
                     "Print one JSON object on one line instead of the table (keys: see docs/cli.md)");
   add_device_option(*command, options->device);
   add_read_options(*command, options->read);
+  add_strict_option(*command, options->strict);
   command->callback([options] { run_info(*options); });
 }
 

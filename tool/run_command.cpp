@@ -74,7 +74,7 @@ void run_run(const RunCommandOptions& options) {
     throw Error(ErrorKind::usage, "--up-axis and --meters-per-unit apply to USD output only (.usda, .usd), not to '" +
                                       options.output_pattern + "'");
   const UpAxis up_axis = parse_up_axis(options.up_axis);
-  const Mesh mesh = read_checked_mesh(options.mesh_path, options.read, device);
+  const Mesh mesh = read_checked_mesh(options.mesh_path, options.read, device, options.strict);
   const CutScript script = read_cut_script(options.script_path);
 
   RunOptions run;
@@ -85,6 +85,7 @@ void run_run(const RunCommandOptions& options) {
   run.start_frame = options.start_frame;
   run.up_axis = up_axis;
   run.meters_per_unit = options.meters_per_unit;
+  run.strict = options.strict;
   // What changes results besides the mesh, the script and the device, for the checkpoint's digest.
   run.result_options = "mesh-name=" + options.read.mesh_name +
                        ";weld-tolerance=" + std::to_string(options.read.weld_tolerance) +
@@ -106,6 +107,11 @@ void run_run(const RunCommandOptions& options) {
       print_frame(frame, options.start_frame + frame_count - 1);
     }
     progress.frame(frame.frame, "frames, " + std::to_string(frame.faces_end) + " faces");
+  };
+  // A frame of damaged faces (`tear::FaceQuality`), said once it is on disk.
+  run.on_warning = [&](const std::string& warning) {
+    progress.finish();
+    std::cerr << "tear: warning: " << warning << std::endl;
   };
   begin_frames();
   run_to_files(mesh, options.mesh_path, script, run);
@@ -156,6 +162,7 @@ void add_run_command(CLI::App& app) {
           ->capture_default_str();
   add_device_option(*command, options->device);
   add_read_options(*command, options->read);
+  add_strict_option(*command, options->strict);
   add_farm_options(*command, options->farm);
   command->callback([options, up_axis, meters_per_unit] {
     options->usd_metadata_given = up_axis->count() > 0 || meters_per_unit->count() > 0;

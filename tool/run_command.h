@@ -22,6 +22,7 @@ struct RunCommandOptions {
   double meters_per_unit = 1;
   bool usd_metadata_given = false;  // --up-axis or --meters-per-unit given
   bool verbose = false;
+  bool strict = false;  // --strict: data warnings fail (exit 3)
   FarmOptions farm;
 };
 

@@ -19,6 +19,7 @@ struct ValidateOptions {
   bool has_mesh = false;  // an empty MESH argument is still a mesh to read (and an error)
   std::string device = "auto";
   ReadOptions read;
+  bool strict = false;
 };
 
 std::string plural(std::size_t n, const char* one, const char* many) {
@@ -31,7 +32,7 @@ void run_validate(const ValidateOptions& options) {
   const DeviceWarmUp warm_up(device);
   const CutScript script = read_cut_script(options.script_path);
   if (options.has_mesh) {
-    const Mesh mesh = read_checked_mesh(options.mesh_path, options.read, device);
+    const Mesh mesh = read_checked_mesh(options.mesh_path, options.read, device, options.strict);
     check_run_inputs(script, mesh, options.mesh_path, device);
     // Allowed, but probably not meant: said on standard error, and the script is still ok.
     for (const std::string& warning : script_warnings(script, mesh, options.mesh_path, device))
@@ -60,6 +61,7 @@ void add_validate_command(CLI::App& app) {
   mesh->type_name("");
   add_device_option(*command, options->device);
   add_read_options(*command, options->read);
+  add_strict_option(*command, options->strict);
   command->callback([options, mesh] {
     options->has_mesh = mesh->count() > 0;
     run_validate(*options);

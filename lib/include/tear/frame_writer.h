@@ -71,6 +71,10 @@ class FrameWriter {
   /// The same for a mesh still on its way from the backend (`Cloth::mesh_later`): the thread that
   /// writes the frame waits for it, this one does not.
   void write(int frame, PendingMesh mesh, bool recompute_normals, std::function<void()> on_written);
+  /// The same, and `inspect` (may be empty) called with the frame's mesh on the thread that writes
+  /// it, after its normals and before it is encoded; what it finds is for `on_written` to read.
+  void write(int frame, PendingMesh mesh, bool recompute_normals, std::function<void()> on_written,
+             std::function<void(const Mesh&)> inspect);
 
   /// Waits for every frame handed over and renames them (calling their `on_written`); throws the
   /// first failure as `write` does. The writer takes more frames afterwards. After a failure,

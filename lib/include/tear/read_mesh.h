@@ -36,6 +36,25 @@ struct ReadOptions {
   bool as_written = false;
 };
 
+/// What welding did to data the file kept apart (docs/robustness.md, *What reading did to the
+/// data*): faces of three different vertices of the file left with a repeated node, so dropped,
+/// and the nodes lost by joining two corners of one face. Positions that differ in the file but
+/// read as one float32 (coordinates far from the origin) do this; so does a weld tolerance longer
+/// than an edge, or two corners of a face that carry one node id.
+struct WeldReport {
+  std::int64_t collapsed_faces = 0;  ///< faces dropped whose corners were three different vertices
+  std::int64_t joined_nodes = 0;     ///< vertices of such faces joined into another vertex of theirs
+  /// The largest coordinate of the vertices read, in absolute value (for the message: float32 holds
+  /// coordinates about 1.2e-7 of it apart).
+  double largest_coordinate = 0;
+
+  bool any() const { return collapsed_faces > 0 || joined_nodes > 0; }
+  /// "180 faces lost in reading: welding joined corners of theirs, different vertices in the file,
+  /// into one node (99 nodes lost so); coordinates reach 1e+07, where float32 has steps of 1": what
+  /// the warning says after the file's name.
+  std::string describe() const;
+};
+
 /// Reads OBJ, PLY, glTF/GLB (tear's own readers) or anything else assimp reads (docs/io.md).
 ///
 /// - Node order: the file's vertex order (OBJ `v` lines, PLY vertices, glTF primitives' vertices
@@ -60,6 +79,9 @@ struct ReadOptions {
 /// PLY value), no mesh has the requested name (listing the names there are), or it holds no
 /// (non-degenerate) triangle. Throws a usage `Error` for a negative or non-finite weld tolerance.
 Mesh read_mesh(const std::string& path, const ReadOptions& options = {});
+/// The same, and what welding did to data the file kept apart, in `report` (the CLI warns, or with
+/// `--strict` fails).
+Mesh read_mesh(const std::string& path, const ReadOptions& options, WeldReport& report);
 
 /// Welds nodes of `mesh` that lie at the same place, so faces split by an importer share nodes again.
 ///
@@ -73,12 +95,13 @@ Mesh read_mesh(const std::string& path, const ReadOptions& options = {});
 ///   dropped.
 /// - Faces left with a repeated node (collapsed by welding) are dropped with their corner UVs and
 ///   normals; other corner attributes are untouched. Torn edges follow their nodes and are kept
-///   while they are an edge of exactly one face.
+///   while they are an edge of exactly one face. `report` (when given) counts the dropped faces
+///   whose corners were three different nodes, and the nodes joined to a corner of their own face.
 ///
 /// Deterministic: the result depends on positions and indices only. Throws an input `Error` when a
 /// face uses a node out of range or an array has the wrong size, and a usage `Error` when
 /// `tolerance` is negative or not finite.
-void weld_nodes(Mesh& mesh, double tolerance);
+void weld_nodes(Mesh& mesh, double tolerance, WeldReport* report = nullptr);
 
 /// Welds nodes of `mesh` that have the same id, whatever their positions: the rule for files that
 /// carry node ids, so that a torn frame reads back torn.
@@ -90,7 +113,7 @@ void weld_nodes(Mesh& mesh, double tolerance);
 ///
 /// Throws an input `Error` when the sizes do not match, a face uses a node out of range or a used
 /// node has a negative id.
-void weld_nodes_by_id(Mesh& mesh, const std::vector<index_t>& node_id);
+void weld_nodes_by_id(Mesh& mesh, const std::vector<index_t>& node_id, WeldReport* report = nullptr);
 
 /// What `read_mesh` does with `weld = false`: drops the nodes no face uses and the faces that
 /// repeat a node, keeping the order of the rest, and welds nothing.

@@ -76,6 +76,23 @@ std::vector<float> area_weighted_corner_normals(const Mesh& mesh);
 /// `node_pos` [node_count * 3]; faces of no area are skipped; NaN when none is left.
 double min_face_angle_deg(const std::vector<index_t>& face_nodes, const std::vector<float>& node_pos);
 
+/// Faces of a frame that a cloth should not have (docs/cli.md, *Report*).
+struct FaceQuality {
+  /// Faces of a repeated node or of no area (`validate_mesh`'s test: squared double area at most
+  /// `degenerate_area_ratio`² times the longest edge's length to the fourth power).
+  index_t degenerate = 0;
+  /// Faces turned over: the face's normal points against the summed normals of the other faces at
+  /// two or three of its corners (a node pushed through the opposite edge, a face flipped among
+  /// its neighbours; also a cloth folded flat within one row of faces).
+  index_t inverted = 0;
+  bool any() const { return degenerate > 0 || inverted > 0; }
+  /// "3 degenerate faces and 1 inverted face" (only the non-zero counts).
+  std::string describe() const;
+};
+
+/// The `FaceQuality` of `mesh` at its positions `node_pos`.
+FaceQuality face_quality(const Mesh& mesh);
+
 /// Options of `run_to_files`; mirrored by `tear run`'s flags.
 struct RunOptions {
   /// `FramePattern` syntax, e.g. "out/cloth.####.obj"; a .usda/.usd path without frame number is
@@ -122,6 +139,12 @@ struct RunOptions {
   /// Milliseconds the caller spent reading and checking the inputs, for the report's
   /// `totals.input_ms` (0 when not measured).
   double input_ms = 0;
+  /// Each frame written is checked for degenerate and inverted faces (`face_quality`, on the
+  /// writer's threads): counted in the report (`degenerate_faces`, `inverted_faces`), and when there
+  /// are any, said to `on_warning` (may be empty) once the frame is on disk, "frame 12 (out/f.0012.obj):
+  /// 3 degenerate faces"; with `strict` the run stops there with a runtime `Error` (exit 3) instead.
+  std::function<void(const std::string&)> on_warning;
+  bool strict = false;
   /// Checked after each frame is handed to the writer: once it is set (by a signal handler), the
   /// run waits until every frame handed over is on disk, writes its checkpoint and stops with an
   /// `Error` of kind `interrupted`.

@@ -2,6 +2,7 @@
 // (docs/simulation.md is their reference). Parsed with the script (`tear::read_cut_script`).
 #pragma once
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <cstddef>
@@ -115,6 +116,10 @@ struct TearingOptions {
   double min_piece = -1;
   /// Most crack advances and starts per substep, >= 1.
   int max_faces_per_step = 64;
+  /// The most faces tearing may leave the cloth with: a tear past it stops the run with a runtime
+  /// `Error` naming `simulation.tearing.max_faces`. 0: the default, `default_tear_face_factor` times
+  /// the faces the cloth has when the simulation starts, at least `default_tear_face_floor`.
+  std::int64_t max_faces = 0;
   /// Snap tolerance of the tear's cut points: the script's `snap` (as `default_snap` unless given).
   double snap = 0.2;
   bool has_weave = false;
@@ -131,6 +136,8 @@ struct TearingOptions {
   double start_stretch() const { return start > 0 ? start : stretch; }
   double step_m() const { return step > 0 ? step : radius / 2; }
   double min_piece_m2() const { return min_piece >= 0 ? min_piece : 4 * radius * radius; }
+  /// `max_faces`, or its default for a cloth of `start_faces` faces when the simulation starts.
+  std::int64_t face_budget(std::int64_t start_faces) const;
 };
 
 /// The `simulation` block of a cut script, in physical units. Defaults suit a 1 m cloth.
@@ -189,6 +196,19 @@ inline constexpr int max_key_frame = 1000000;
 inline constexpr double max_tear_stretch = 1000;
 /// `tearing.max_faces_per_step`: a cap far above any mesh's faces per substep would be none.
 inline constexpr int max_tear_faces_per_step = 100000000;
+/// `tearing.max_faces`: the most faces a cloth can have (its face corners are 32-bit indices).
+inline constexpr std::int64_t max_tear_faces = 715827882;
+/// The default of `tearing.max_faces`: this many times the faces the simulation starts with (a
+/// sheet torn to shreds everywhere has about twice its faces), and at least the floor (a small
+/// cloth's tears add faces along their paths that a multiple of few faces would not hold).
+inline constexpr std::int64_t default_tear_face_factor = 8;
+inline constexpr std::int64_t default_tear_face_floor = 100000;
 }  // namespace simulation_limits
+
+inline std::int64_t TearingOptions::face_budget(std::int64_t start_faces) const {
+  if (max_faces > 0) return max_faces;
+  const std::int64_t scaled = simulation_limits::default_tear_face_factor * start_faces;
+  return std::min(simulation_limits::max_tear_faces, std::max(simulation_limits::default_tear_face_floor, scaled));
+}
 
 }  // namespace tear

@@ -46,6 +46,8 @@ class StepJob {
                               to_host<float>(cloth.corner_uv), options_.tearing, options_.source);
       assign_from_host(cloth.face_strength, strength);
       min_strength_ = strength.empty() ? 1.0 : *std::min_element(strength.begin(), strength.end());
+      start_faces_ = cloth.face_count();
+      face_budget_ = options_.tearing.face_budget(start_faces_);
     }
   }
   /// The mesh changed (a cut, a tear, a loaded checkpoint): the model and crack field are rebuilt.
@@ -78,7 +80,10 @@ class StepJob {
       m.substep_start.record();
       solver_->step_substep_in_place(raw<float>(cloth.node_pos), raw<float>(cloth.node_vel), frame, s);
       m.substep_end.record();
+      const index_t faces_before = cloth.face_count();
       m.applied = tear(cloth, cutter, m, torn);
+      // Only a tear stops the run (the script's own cuts add faces as they were asked to).
+      if (cloth.face_count() > faces_before && cloth.face_count() > face_budget_) over_budget(cloth, frame);
     }
     Traits<System>::synchronize();
     for (int s = 0; s < substeps; ++s) {
@@ -106,6 +111,20 @@ class StepJob {
     else
       solver_ = make_pd_solver<System>(cloth, options_);
     stale_ = false;
+  }
+
+  /// A tear left the cloth with more faces than `tearing.max_faces` (or its default): the run
+  /// stops there, a runtime `Error` naming the key.
+  [[noreturn]] void over_budget(const DeviceCloth<System>& cloth, int frame) const {
+    const std::int64_t given = options_.tearing.max_faces;
+    throw runtime_error(
+        options_.source + ": frame " + std::to_string(frame) + ": simulation.tearing.max_faces: tearing left the cloth with " +
+        std::to_string(cloth.face_count()) + " faces, over the limit of " + std::to_string(face_budget_) +
+        (given > 0 ? std::string()
+                   : " (the default: " + std::to_string(simulation_limits::default_tear_face_factor) +
+                         " times the " + std::to_string(start_faces_) + " faces the simulation started with, at least " +
+                         std::to_string(simulation_limits::default_tear_face_floor) + ")") +
+        "; raise tearing.max_faces, or tearing.stretch so that less tears");
   }
 
   /// The largest stretch no limit can be under: where no face passes it, nothing tears.
@@ -264,6 +283,8 @@ class StepJob {
   vector<System, index_t> cell_face_;
   vector<System, kernels::DiscSums> sums_;
   double min_strength_ = 1;
+  std::int64_t start_faces_ = 0;  // the cloth's faces when the simulation started
+  std::int64_t face_budget_ = 0;  // the most faces tearing may leave it with
   std::unique_ptr<StepMarks[]> marks_;  // [mark_count_], one per substep
   int mark_count_ = 0;
 };

@@ -26,6 +26,7 @@ struct FrameWriter::Pool {
     Mesh mesh;            // released once its file is written
     bool recompute_normals = false;
     std::function<void()> on_written;
+    std::function<void(const Mesh&)> inspect;
     Stage stage = Stage::waiting;
     TemporaryFile file;          // a sink of files: the frame's file before its rename
     std::exception_ptr failure;  // Stage::failed
@@ -103,6 +104,7 @@ struct FrameWriter::Pool {
         frame->mesh = frame->pending.take();
         Mesh& mesh = frame->mesh;
         if (frame->recompute_normals) mesh.corner_normal = area_weighted_corner_normals(mesh);
+        if (frame->inspect) frame->inspect(mesh);
         if (stages_files) {
           frame->file = sink.stage(frame->frame, mesh, bytes);
           mesh = Mesh();
@@ -183,6 +185,11 @@ void FrameWriter::write(int frame, Mesh mesh, bool recompute_normals, std::funct
 }
 
 void FrameWriter::write(int frame, PendingMesh mesh, bool recompute_normals, std::function<void()> on_written) {
+  write(frame, std::move(mesh), recompute_normals, std::move(on_written), {});
+}
+
+void FrameWriter::write(int frame, PendingMesh mesh, bool recompute_normals, std::function<void()> on_written,
+                        std::function<void(const Mesh&)> inspect) {
   Pool& pool = *pool_;
   std::unique_lock<std::mutex> lock(pool.mutex);
   pool.commit_ready(lock, pool.max_in_flight - 1);
@@ -191,6 +198,7 @@ void FrameWriter::write(int frame, PendingMesh mesh, bool recompute_normals, std
   handed->pending = std::move(mesh);
   handed->recompute_normals = recompute_normals;
   handed->on_written = std::move(on_written);
+  handed->inspect = std::move(inspect);
   pool.frames.push_back(std::move(handed));
   pool.most_in_flight = std::max(pool.most_in_flight, pool.frames.size());
   pool.to_write.notify_one();

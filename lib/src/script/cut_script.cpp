@@ -107,37 +107,50 @@ std::string syntax_detail(const std::string& message) {
   return "syntax error: " + rest;
 }
 
-// Follows the key path while nlohmann parses, so that errors the parser raises without a position
-// (duplicate keys, numbers that overflow a double) can name the key path instead.
+// Builds the document as nlohmann's own parser does and follows the key path meanwhile, so that
+// errors the parser raises without a position (duplicate keys, numbers that overflow a double) can
+// name the key path instead. A SAX handler, not nlohmann's parse callback: with a callback,
+// nlohmann (3.11) scans the whole enclosing array for discarded values after each object in it,
+// so a script of 100,000 cuts took seconds to parse (quadratic in the cuts).
 class PathTracker {
  public:
-  explicit PathTracker(const std::string& file) : file_(file) {}
+  PathTracker(const std::string& file, json& result) : file_(file), dom_(result) {}
 
-  bool on_event(json::parse_event_t event, json& parsed) {
-    switch (event) {
-      case json::parse_event_t::object_start:
-        levels_.push_back(Level{false, {}, 0, {}});
-        break;
-      case json::parse_event_t::array_start:
-        levels_.push_back(Level{true, {}, 0, {}});
-        break;
-      case json::parse_event_t::key: {
-        Level& top = levels_.back();
-        top.key = parsed.get<std::string>();
-        if (!top.keys.insert(top.key).second)
-          throw input_error(file_, next_value_path() + ": duplicate key (each key may appear once)");
-        break;
-      }
-      case json::parse_event_t::object_end:
-      case json::parse_event_t::array_end:
-        levels_.pop_back();
-        element_done();
-        break;
-      case json::parse_event_t::value:
-        element_done();
-        break;
-    }
-    return true;
+  bool null() { return value(dom_.null()); }
+  bool boolean(bool v) { return value(dom_.boolean(v)); }
+  bool number_integer(json::number_integer_t v) { return value(dom_.number_integer(v)); }
+  bool number_unsigned(json::number_unsigned_t v) { return value(dom_.number_unsigned(v)); }
+  bool number_float(json::number_float_t v, const json::string_t& text) { return value(dom_.number_float(v, text)); }
+  bool string(json::string_t& v) { return value(dom_.string(v)); }
+  bool binary(json::binary_t& v) { return value(dom_.binary(v)); }
+  bool start_object(std::size_t size) {
+    levels_.push_back(Level{false, {}, 0, {}});
+    return dom_.start_object(size);
+  }
+  bool key(json::string_t& key) {
+    Level& top = levels_.back();
+    top.key = key;
+    if (!top.keys.insert(top.key).second)
+      throw input_error(file_, next_value_path() + ": duplicate key (each key may appear once)");
+    return dom_.key(key);
+  }
+  bool end_object() {
+    levels_.pop_back();
+    element_done();
+    return dom_.end_object();
+  }
+  bool start_array(std::size_t size) {
+    levels_.push_back(Level{true, {}, 0, {}});
+    return dom_.start_array(size);
+  }
+  bool end_array() {
+    levels_.pop_back();
+    element_done();
+    return dom_.end_array();
+  }
+  template <class Exception>
+  bool parse_error(std::size_t position, const std::string& last_token, const Exception& e) {
+    return dom_.parse_error(position, last_token, e);  // throws it
   }
 
   // The key path of the value being parsed now.
@@ -155,11 +168,16 @@ class PathTracker {
     std::size_t index;  // arrays: the index of the element being parsed
     std::set<std::string> keys;
   };
+  bool value(bool kept) {
+    element_done();
+    return kept;
+  }
   void element_done() {
     if (!levels_.empty() && levels_.back().is_array) ++levels_.back().index;
   }
 
   const std::string& file_;
+  nlohmann::detail::json_sax_dom_parser<json> dom_;
   std::vector<Level> levels_;
 };
 
@@ -171,10 +189,11 @@ json parse_json(const std::string& text, const std::string& file) {
   if (json_nesting_depth(text.data(), text.size()) > max_script_depth)
     throw input_error(file, "the cut script nests arrays and objects deeper than " + std::to_string(max_script_depth) +
                                 " levels");
-  PathTracker tracker(file);
+  json result;
+  PathTracker tracker(file, result);
   try {
-    return json::parse(text,
-                       [&](int, json::parse_event_t event, json& parsed) { return tracker.on_event(event, parsed); });
+    json::sax_parse(text, &tracker);
+    return result;
   } catch (const json::parse_error& e) {
     const auto [line, column] = line_and_column(text, e.byte > 0 ? e.byte - 1 : 0);
     throw input_error(file + ":" + std::to_string(line) + ":" + std::to_string(column), syntax_detail(e.what()));

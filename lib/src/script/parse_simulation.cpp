@@ -186,8 +186,8 @@ std::shared_ptr<const StrengthMap> parse_strength_map(const Reader& reader, cons
 /// `tearing`: {"stretch": S, ...}, S required (docs/simulation.md, *Tearing*).
 TearingOptions parse_tearing(const Reader& reader, const json& value, const std::string& path) {
   reader.expect_object(value, path,
-                       {"stretch", "start", "radius", "step", "min_piece", "max_faces_per_step", "weave",
-                        "seam_strength", "variation", "seed", "strength_map"});
+                       {"stretch", "start", "radius", "step", "min_piece", "max_faces_per_step", "max_faces",
+                        "weave", "seam_strength", "variation", "seed", "strength_map"});
   TearingOptions tearing;
   const std::string stretch_range = "a number in (1, " + shown(limits::max_tear_stretch) + "] (stretch ratio)";
   tearing.stretch = reader.number(reader.member(value, path, "stretch", stretch_range), child_path(path, "stretch"),
@@ -200,6 +200,10 @@ TearingOptions parse_tearing(const Reader& reader, const json& value, const std:
     tearing.max_faces_per_step = static_cast<int>(reader.integer(
         value["max_faces_per_step"], child_path(path, "max_faces_per_step"), 1, limits::max_tear_faces_per_step,
         "an integer in 1.." + std::to_string(limits::max_tear_faces_per_step) + " (crack advances per substep)"));
+  if (value.contains("max_faces"))
+    tearing.max_faces = reader.integer(value["max_faces"], child_path(path, "max_faces"), 1, limits::max_tear_faces,
+                                       "an integer in 1.." + std::to_string(limits::max_tear_faces) +
+                                           " (faces the cloth may tear to)");
   if (value.contains("weave")) {
     tearing.has_weave = true;
     tearing.weave = parse_weave(reader, value["weave"], child_path(path, "weave"));

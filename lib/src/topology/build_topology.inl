@@ -14,11 +14,9 @@ namespace tear::backend {
 
 namespace {
 
-/// The edge count, from the scan of the per-node counts in `topo.node_edge_offset`, and the edge
-/// arrays sized for it (the one read-back of a build or a patch).
+/// The edge arrays sized for `edge_count` edges.
 template <class System>
-void size_edges(DeviceTopology<System>& topo) {
-  const index_t edge_count = topo.node_edge_offset[topo.node_count];
+void size_edges(DeviceTopology<System>& topo, index_t edge_count) {
   topo.edge_count = edge_count;
   resize_for_overwrite(topo.edge_nodes, 2 * static_cast<std::size_t>(edge_count));
   resize_for_overwrite(topo.edge_faces, 2 * static_cast<std::size_t>(edge_count));
@@ -46,6 +44,53 @@ kernels::flag_boundary_nodes boundary_flagger(DeviceTopology<System>& topo, cons
           raw<index_t>(topo.node_faces),   raw<std::uint8_t>(topo.edge_boundary), raw<std::uint8_t>(topo.node_boundary)};
 }
 
+/// The edge counts of `counts` [node_count + 2] (`count_node_edges`) scanned into
+/// `topo.node_edge_offset`, and the edge arrays sized for the edge count: one read-back of two
+/// values. When some node's edges were left uncounted (too many for one pass), every node of many
+/// faces has its half-edges sorted and its edges counted from them (`sort_node_half_edges`, into
+/// the scratch's keys), and the counts are scanned again. Returns the writer of the edges.
+template <class System, class Policy>
+kernels::write_node_edges scan_edge_counts(DeviceTopology<System>& topo, const vector<System, index_t>& face_nodes,
+                                           vector<System, index_t>& counts, TopologyScratch<System>& scratch,
+                                           const Policy& policy) {
+  const index_t node_count = topo.node_count;
+  auto& offset = topo.node_edge_offset;
+  resize_for_overwrite(offset, static_cast<std::size_t>(node_count) + 2);
+  exclusive_sum<System>(policy, raw<index_t>(counts), raw<index_t>(offset), node_count + 2);
+  index_t ends[2];
+  thrust::copy(offset.begin() + node_count, offset.begin() + node_count + 2, ends);
+  const bool sorted = ends[1] != ends[0];
+  auto& key_offset = scratch.half_edge_key_offset;
+  auto& keys = scratch.half_edge_keys;
+  if (sorted) {
+    const std::size_t nodes_and_end = static_cast<std::size_t>(node_count) + 1;
+    resize_for_overwrite(key_offset, nodes_and_end);
+    resize_for_overwrite(scratch.half_edge_key_count, nodes_and_end);
+    for_each_index<System>(node_count + 1,
+                           kernels::count_half_edge_keys{raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
+                                                         raw<index_t>(topo.node_faces), node_count,
+                                                         raw<index_t>(scratch.half_edge_key_count)});
+    exclusive_sum<System>(policy, raw<index_t>(scratch.half_edge_key_count), raw<index_t>(key_offset),
+                          node_count + 1);
+    const index_t key_count = key_offset[node_count];
+    resize_for_overwrite(keys, static_cast<std::size_t>(key_count));
+    for_each_index<System>(node_count + 1, kernels::sort_node_half_edges{
+                                               raw<index_t>(face_nodes), raw<index_t>(topo.node_face_offset),
+                                               raw<index_t>(topo.node_faces), raw<index_t>(key_offset),
+                                               raw<std::uint64_t>(keys), node_count, raw<index_t>(counts)});
+    exclusive_sum<System>(policy, raw<index_t>(counts), raw<index_t>(offset), node_count + 2);
+    ends[0] = offset[node_count];
+  }
+  size_edges(topo, ends[0]);
+  kernels::write_node_edges writer = edge_writer(topo, face_nodes);
+  if (sorted) {
+    writer.key_offset = raw<index_t>(key_offset);
+    writer.keys = raw<std::uint64_t>(keys);
+  }
+  return writer;
+}
+
+
 /// face_edges of every half-edge, once the edges are written.
 template <class System>
 void write_all_face_edges(DeviceTopology<System>& topo, const vector<System, index_t>& face_nodes) {
@@ -66,7 +111,6 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
   const index_t half_count = 3 * face_count;
   topo.node_count = node_count;
   topo.face_count = face_count;
-  const std::size_t nodes_and_end = static_cast<std::size_t>(node_count) + 1;
 
   // Node→faces: the corners counting-sorted by node (faces ascending in each node's run).
   auto& node_tally = scratch.node_tally;
@@ -75,12 +119,10 @@ void build_device_topology(DeviceTopology<System>& topo, const vector<System, in
 
   // Edges: counted at their lower node, numbered by a scan of the counts, written in (low, high)
   // order with their faces.
-  for_each_index<System>(node_count + 1, edge_counter(topo, face_nodes, node_tally));
-  auto& node_edge_offset = topo.node_edge_offset;
-  resize_for_overwrite(node_edge_offset, nodes_and_end);
-  exclusive_sum<System>(policy, raw<index_t>(node_tally), raw<index_t>(node_edge_offset), node_count + 1);
-  size_edges(topo);
-  for_each_index<System>(node_count, edge_writer(topo, face_nodes));
+  // node_tally[node_count] is 0 after the counting sort; the count adds to it (`count_node_edges`).
+  resize_for_overwrite(node_tally, static_cast<std::size_t>(node_count) + 2);
+  for_each_index<System>(node_count + 2, edge_counter(topo, face_nodes, node_tally));
+  for_each_index<System>(node_count, scan_edge_counts(topo, face_nodes, node_tally, scratch, policy));
   write_all_face_edges(topo, face_nodes);
 
   resize_for_overwrite(topo.node_boundary, node_count);
@@ -123,7 +165,7 @@ void patch_device_topology(DeviceTopology<System>& topo, const DeviceTopology<Sy
 
   // Node→faces: counted, scanned, kept runs copied, the touched faces' corners added.
   auto& tally = scratch.node_tally;
-  resize_for_overwrite(tally, nodes_and_end);
+  resize_for_overwrite(tally, nodes_and_end + 1);  // the edge counts' two ends (`count_node_edges`)
   for_each_index<System>(node_count + 1, count_patched_corners{was, node_count, raw<index_t>(tally)});
   for_each_index<System>(old_faces, add_touched_corners{raw<index_t>(face_nodes), raw<index_t>(face_offset),
                                                         raw<std::uint8_t>(scratch.face_touched), raw<index_t>(tally)});
@@ -138,14 +180,11 @@ void patch_device_topology(DeviceTopology<System>& topo, const DeviceTopology<Sy
 
   // Edges: kept nodes' counts and edges copied, touched nodes' runs sorted and their edges counted
   // and written.
-  for_each_index<System>(node_count + 1, count_patched_edges{was, edge_counter(topo, face_nodes, tally),
+  // tally[node_count] is the 0 count_patched_corners wrote after the corner counts.
+  for_each_index<System>(node_count + 2, count_patched_edges{was, edge_counter(topo, face_nodes, tally),
                                                              sort_runs{raw<index_t>(topo.node_face_offset),
                                                                        raw<index_t>(topo.node_faces)}});
-  auto& node_edge_offset = topo.node_edge_offset;
-  resize_for_overwrite(node_edge_offset, nodes_and_end);
-  exclusive_sum<System>(policy, raw<index_t>(tally), raw<index_t>(node_edge_offset), node_count + 1);
-  size_edges(topo);
-  for_each_index<System>(node_count, write_patched_edges{was, edge_writer(topo, face_nodes)});
+  for_each_index<System>(node_count, write_patched_edges{was, scan_edge_counts(topo, face_nodes, tally, scratch, policy)});
   write_all_face_edges(topo, face_nodes);
   resize_for_overwrite(topo.node_boundary, node_count);
   for_each_index<System>(node_count, flag_patched_boundary{was, boundary_flagger(topo, face_nodes)});

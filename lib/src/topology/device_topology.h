@@ -22,7 +22,7 @@ struct DeviceTopology {
   index_t node_count = 0, face_count = 0, edge_count = 0;
   vector<System, index_t> edge_nodes, edge_faces, edge_face_count, face_edges, node_face_offset, node_faces;
   vector<System, std::uint8_t> edge_boundary, node_boundary;
-  vector<System, index_t> node_edge_offset;  ///< [node_count + 1] first edge whose lower node is n (edges run by it)
+  vector<System, index_t> node_edge_offset;  ///< [node_count + 2] first edge whose lower node is n (edges run by it); the last less the one before: the half-edges left uncounted (`count_node_edges`)
 
   void swap(DeviceTopology& o) {
     std::swap(node_count, o.node_count);
@@ -71,7 +71,8 @@ void build_csr_by_counting(const Policy& policy, Items items, index_t item_count
   for_each_index<System>(item_count, kernels::count_keys<Items>{items, raw<index_t>(tally)});
   resize_for_overwrite(offset, ends);
   exclusive_sum<System>(policy, raw<index_t>(tally), raw<index_t>(offset), static_cast<index_t>(ends));
-  thrust::copy(policy, offset.begin(), offset.end(), tally.begin());  // the cursors
+  // The cursors; tally[key_count] stays 0 (a count of keys' ends may follow: `count_node_edges`).
+  thrust::copy(policy, offset.begin(), offset.end() - 1, tally.begin());
   resize_for_overwrite(values, value_count >= 0 ? value_count : static_cast<index_t>(offset[key_count]));
   for_each_index<System>(item_count,
                    kernels::fill_by_key<Items>{items, raw<index_t>(tally), raw<index_t>(values)});
@@ -81,7 +82,11 @@ void build_csr_by_counting(const Policy& policy, Items items, index_t item_count
 /// Working arrays of `build_device_topology`, kept between builds so they only grow.
 template <class System>
 struct TopologyScratch {
-  vector<System, index_t> node_tally;  // [node_count + 1] corner counts, then cursors, then edge counts
+  vector<System, index_t> node_tally;  // [node_count + 2] corner counts, then cursors, then edge counts
+  // A node's half-edges sorted as keys, when some node has more edges than one pass gathers
+  // (`sort_node_half_edges`): their counts, their slices' offsets, the keys.
+  vector<System, index_t> half_edge_key_count, half_edge_key_offset;
+  vector<System, std::uint64_t> half_edge_keys;
   // A patch's marks: the old faces a cut split or renumbered, and the nodes of those faces.
   vector<System, std::uint8_t> face_touched, node_touched;
 };

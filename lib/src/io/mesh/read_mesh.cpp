@@ -70,6 +70,12 @@ void check_face_budget(const std::string& path, std::uint64_t faces, std::uint64
 }
 
 Mesh read_mesh(const std::string& path, const ReadOptions& options) {
+  WeldReport report;
+  return read_mesh(path, options, report);
+}
+
+Mesh read_mesh(const std::string& path, const ReadOptions& options, WeldReport& report) {
+  report = WeldReport{};
   if (!std::isfinite(options.weld_tolerance) || options.weld_tolerance < 0.0) {
     throw Error(ErrorKind::usage,
                 "weld tolerance must be a finite number >= 0, got " + std::to_string(options.weld_tolerance));
@@ -108,11 +114,13 @@ Mesh read_mesh(const std::string& path, const ReadOptions& options) {
   } else if (!options.weld) {
     drop_unused_nodes(mesh);
   } else if (!file.vertex_id.empty()) {
-    weld_nodes_by_id(mesh, file.vertex_id);
+    weld_nodes_by_id(mesh, file.vertex_id, &report);
   } else {
-    weld_nodes(mesh, options.weld_tolerance);
+    weld_nodes(mesh, options.weld_tolerance, &report);
   }
-  if (mesh.face_count() == 0) throw input_error(path, "holds no triangles (all are degenerate)");
+  if (mesh.face_count() == 0)
+    throw input_error(path, "holds no triangles (all are degenerate" +
+                                (report.any() ? "; " + report.describe() : std::string()) + ")");
   return mesh;
 }
 

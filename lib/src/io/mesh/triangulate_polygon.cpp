@@ -24,9 +24,9 @@ bool in_triangle(const Point2& p, const Point2& a, const Point2& b, const Point2
   return turn(a, b, p) >= 0.0 && turn(b, c, p) >= 0.0 && turn(c, a, p) >= 0.0;
 }
 
-/// Ear clipping is quadratic to cubic in the corner count; beyond this many corners a concave
-/// polygon is fanned, so that no file can make reading take hours. Cloth meshes have triangles and
-/// quads, exporters' n-gons far fewer corners than this.
+/// Ear clipping is quadratic in the corner count (each step a pass over the ring); beyond this many
+/// corners a concave polygon is fanned, so that no file can make reading take hours. Cloth meshes
+/// have triangles and quads, exporters' n-gons far fewer corners than this.
 constexpr index_t ear_clipping_limit = 128;
 
 void fan(index_t corner_count, std::vector<index_t>& triangles) {
@@ -75,23 +75,36 @@ std::vector<index_t> triangulate_polygon(const float* corner_pos, index_t corner
     return triangles;
   }
 
+  // Ear clipping: the first ear of the ring is clipped, again and again. Whether a corner is an ear
+  // is kept between steps, since a clip changes it only for the clipped corner's two neighbours
+  // (their triangles change) and for the corners it alone kept from being ears (an obstacle gone):
+  // each corner remembers the obstacle it was found to have. So each step is one pass over the
+  // ring, mostly through what is known, not a test of every corner against every other (cubic in
+  // the corner count).
+  constexpr index_t unknown = -1, ear = -2, not_ear = -3;  // or the corner in the way
+  std::vector<index_t> status(static_cast<std::size_t>(corner_count), unknown);
   std::vector<index_t> ring(corner_count);
   std::iota(ring.begin(), ring.end(), 0);
   while (ring.size() > 3) {
     const std::size_t m = ring.size();
     auto corner = [&](std::size_t k, int offset) { return ring[(k + m + offset) % m]; };
-    auto is_ear = [&](std::size_t k) {
+    auto ear_status = [&](std::size_t k) -> index_t {
       const Point2 &a = point[corner(k, -1)], &b = point[corner(k, 0)], &c = point[corner(k, 1)];
-      if (!(turn(a, b, c) > 0.0)) return false;
+      if (!(turn(a, b, c) > 0.0)) return not_ear;
       for (std::size_t j = 0; j < m; ++j) {
         if (j == k || j == (k + 1) % m || j == (k + m - 1) % m) continue;
         const Point2& p = point[ring[j]];
         // A corner at the same place as one of the ear's (a polygon bridged to its hole) is no
         // obstacle; any other corner inside or on the ear is.
         if (same_point(p, a) || same_point(p, b) || same_point(p, c)) continue;
-        if (in_triangle(p, a, b, c)) return false;
+        if (in_triangle(p, a, b, c)) return ring[j];
       }
-      return true;
+      return ear;
+    };
+    auto is_ear = [&](std::size_t k) {
+      index_t& known = status[ring[k]];
+      if (known == unknown) known = ear_status(k);
+      return known == ear;
     };
     std::size_t clip = m;
     for (std::size_t k = 0; k < m && clip == m; ++k) {
@@ -103,7 +116,11 @@ std::vector<index_t> triangulate_polygon(const float* corner_pos, index_t corner
       if (turn(point[corner(k, -1)], point[corner(k, 0)], point[corner(k, 1)]) > 0.0) clip = k;
     }
     if (clip == m) clip = 0;
-    triangles.insert(triangles.end(), {corner(clip, -1), corner(clip, 0), corner(clip, 1)});
+    const index_t clipped = corner(clip, 0);
+    triangles.insert(triangles.end(), {corner(clip, -1), clipped, corner(clip, 1)});
+    status[corner(clip, -1)] = status[corner(clip, 1)] = unknown;
+    for (index_t c : ring)
+      if (status[c] == clipped) status[c] = unknown;
     ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(clip));
   }
   triangles.insert(triangles.end(), ring.begin(), ring.end());

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <numeric>
 #include <parallel/algorithm>
 #include <string>
@@ -81,14 +82,46 @@ std::uint64_t edge_key(index_t a, index_t b) {
   return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
 }
 
+/// What merging into `node_group` does to faces of three different nodes (`WeldReport`): those left
+/// with a repeated node, and the nodes of theirs joined to another (each group of such nodes keeps
+/// one). Nothing is counted for a face that repeats a node already.
+void count_collapsed(const Mesh& mesh, const std::vector<index_t>& node_group, WeldReport& report) {
+  for (float x : mesh.node_pos)
+    if (std::isfinite(x)) report.largest_coordinate = std::max(report.largest_coordinate, std::fabs(double(x)));
+  std::vector<index_t> joined;  // nodes of collapsed faces joined to another corner of theirs
+  const std::size_t face_count = static_cast<std::size_t>(mesh.face_count());
+  for (std::size_t f = 0; f < face_count; ++f) {
+    const index_t* n = &mesh.face_nodes[3 * f];
+    if (n[0] == n[1] || n[1] == n[2] || n[2] == n[0]) continue;
+    bool collapsed = false;
+    for (int k = 0; k < 3; ++k) {
+      const index_t a = n[k], b = n[(k + 1) % 3];
+      if (node_group[a] != node_group[b]) continue;
+      collapsed = true;
+      joined.insert(joined.end(), {a, b});
+    }
+    if (collapsed) ++report.collapsed_faces;
+  }
+  if (joined.empty()) return;
+  std::sort(joined.begin(), joined.end());
+  joined.erase(std::unique(joined.begin(), joined.end()), joined.end());
+  std::vector<index_t> groups(joined.size());
+  for (std::size_t i = 0; i < joined.size(); ++i) groups[i] = node_group[joined[i]];
+  std::sort(groups.begin(), groups.end());
+  const std::size_t group_count = static_cast<std::size_t>(std::unique(groups.begin(), groups.end()) - groups.begin());
+  report.joined_nodes += static_cast<std::int64_t>(joined.size() - group_count);
+}
+
 /// Merges every node into its group's representative `node_group[node]` (a node of the group,
 /// `node_group[rep] == rep`), then keeps the representatives some face still uses, ordered by
 /// `group_key[rep]` (ascending, ties by index; by index alone when `group_key` is empty).
 /// Faces left with a repeated node are dropped with their corner attributes; the node arrays
 /// (positions, velocities, origins) take the representative's values; torn edges follow their
 /// nodes and are kept only while they are still an edge of exactly one face.
-void merge_nodes(Mesh& mesh, const std::vector<index_t>& node_group, const std::vector<std::int64_t>& group_key) {
+void merge_nodes(Mesh& mesh, const std::vector<index_t>& node_group, const std::vector<std::int64_t>& group_key,
+                 WeldReport* report = nullptr) {
   const index_t face_count = mesh.face_count();
+  if (report) count_collapsed(mesh, node_group, *report);
   // Compacted in place: a kept face moves to its running count, never past where it was read.
   std::vector<index_t>& face_nodes = mesh.face_nodes;
   std::vector<float>&corner_uv = mesh.corner_uv, &corner_normal = mesh.corner_normal;
@@ -237,7 +270,7 @@ void link_within(const std::vector<float>& node_pos, const std::vector<index_t>&
 
 }  // namespace
 
-void weld_nodes(Mesh& mesh, double tolerance) {
+void weld_nodes(Mesh& mesh, double tolerance, WeldReport* report) {
   if (!std::isfinite(tolerance) || tolerance < 0.0) {
     throw Error(ErrorKind::usage, "weld tolerance must be a finite number >= 0, got " + std::to_string(tolerance));
   }
@@ -258,10 +291,10 @@ void weld_nodes(Mesh& mesh, double tolerance) {
   }
   std::vector<index_t> node_group(node_count);
   for (index_t node = 0; node < node_count; ++node) node_group[node] = sets.find(node);
-  merge_nodes(mesh, node_group, {});
+  merge_nodes(mesh, node_group, {}, report);
 }
 
-void weld_nodes_by_id(Mesh& mesh, const std::vector<index_t>& node_id) {
+void weld_nodes_by_id(Mesh& mesh, const std::vector<index_t>& node_id, WeldReport* report) {
   check_arrays(mesh, "weld_nodes_by_id");
   const index_t node_count = mesh.node_count();
   if (node_id.size() != static_cast<std::size_t>(node_count)) {
@@ -294,7 +327,19 @@ void weld_nodes_by_id(Mesh& mesh, const std::vector<index_t>& node_id) {
     }
   }
   std::vector<std::int64_t> group_key(node_id.begin(), node_id.end());
-  merge_nodes(mesh, node_group, group_key);
+  merge_nodes(mesh, node_group, group_key, report);
+}
+
+std::string WeldReport::describe() const {
+  char where[160];
+  // float32's step at the largest coordinate: 2^(exponent - 23).
+  int exponent = 0;
+  std::frexp(largest_coordinate, &exponent);
+  std::snprintf(where, sizeof where, "coordinates reach %.3g, where float32 has steps of %.3g", largest_coordinate,
+                largest_coordinate > 0 ? std::ldexp(1.0, exponent - 24) : 0.0);
+  return std::to_string(collapsed_faces) + (collapsed_faces == 1 ? " face" : " faces") +
+         " lost in reading: welding joined corners of theirs, different vertices in the file, into one node (" +
+         std::to_string(joined_nodes) + (joined_nodes == 1 ? " node" : " nodes") + " lost so); " + where;
 }
 
 void drop_unused_nodes(Mesh& mesh) {
