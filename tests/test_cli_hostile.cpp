@@ -131,7 +131,7 @@ TEST_CASE("glTF: a buffer or image uri may only name a regular file in the glTF'
   CHECK(length.err.find("36") == std::string::npos);
 }
 
-TEST_CASE("glTF: a bad data uri is not echoed whole; instancing is bounded by --max-faces", "[hostile][cli]") {
+TEST_CASE("glTF: a bad data uri is not echoed whole, and instancing is bounded by --max-faces", "[hostile][cli]") {
   TempDir dir;
   dir.file("data.gltf", triangle_gltf("data:application/octet-stream;base64," + std::string(200000, '!')));
   check_refused(timed_tear(dir, "info data.gltf"), 2, "data.gltf: ");
@@ -375,7 +375,7 @@ TEST_CASE("validate: a script of 80,000 cuts is read in time linear in its cuts"
   check_refused(timed_tear(dir, "validate twice.json"), 2, "twice.json: cuts[0].frame: duplicate key");
 }
 
-TEST_CASE("frames: degenerate or inverted faces are counted in the report and warned about; --strict stops",
+TEST_CASE("frames: degenerate or inverted faces are counted in the report and warned about, and --strict stops the run",
           "[hostile][cli]") {
   TempDir dir;
   // All nodes held, the middle one moved 0.6 m along x in frame 1: past its neighbours, so faces

@@ -36,11 +36,14 @@ struct ReadOptions {
   bool as_written = false;
 };
 
-/// What welding did to data the file kept apart (docs/robustness.md, *What reading did to the
-/// data*): faces of three different vertices of the file left with a repeated node, so dropped,
-/// and the nodes lost by joining two corners of one face. Positions that differ in the file but
-/// read as one float32 (coordinates far from the origin) do this; so does a weld tolerance longer
-/// than an edge, or two corners of a face that carry one node id.
+/// What welding did to data the file kept apart (docs/robustness.md, *What reading and running did
+/// to the data*): faces of three different vertices of the file left with a repeated node, so
+/// dropped, and the nodes lost by joining two corners of one face. Apart means at different
+/// positions (joined by a weld tolerance longer than an edge, or by one node id), or at one
+/// float32 position where float32 keeps fewer than 1024 steps along the mesh's median edge at its
+/// largest coordinate: positions that differ in the file but read as one float32, far from the
+/// origin. Two corners at one position of a finely resolved mesh were one point in the file too
+/// (a face degenerate there), and are not counted.
 struct WeldReport {
   std::int64_t collapsed_faces = 0;  ///< faces dropped whose corners were three different vertices
   std::int64_t joined_nodes = 0;     ///< vertices of such faces joined into another vertex of theirs

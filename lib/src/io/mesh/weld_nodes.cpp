@@ -82,25 +82,60 @@ std::uint64_t edge_key(index_t a, index_t b) {
   return (static_cast<std::uint64_t>(a) << 32) | static_cast<std::uint32_t>(b);
 }
 
-/// What merging into `node_group` does to faces of three different nodes (`WeldReport`): those left
-/// with a repeated node, and the nodes of theirs joined to another (each group of such nodes keeps
-/// one). Nothing is counted for a face that repeats a node already.
+bool same_position(const std::vector<float>& node_pos, index_t a, index_t b) {
+  for (int k = 0; k < 3; ++k)
+    if (node_pos[3 * std::size_t(a) + k] != node_pos[3 * std::size_t(b) + k]) return false;
+  return true;
+}
+
+/// The median length of the faces' edges of non-zero length (0 when there is none).
+double median_edge(const Mesh& mesh) {
+  std::vector<double> length;
+  length.reserve(mesh.face_nodes.size());
+  for (std::size_t f = 0; f + 2 < mesh.face_nodes.size(); f += 3)
+    for (int k = 0; k < 3; ++k) {
+      const float* p = &mesh.node_pos[3 * std::size_t(mesh.face_nodes[f + k])];
+      const float* q = &mesh.node_pos[3 * std::size_t(mesh.face_nodes[f + (k + 1) % 3])];
+      const double d = std::hypot(double(p[0]) - q[0], double(p[1]) - q[1], double(p[2]) - q[2]);
+      if (d > 0 && std::isfinite(d)) length.push_back(d);
+    }
+  if (length.empty()) return 0;
+  std::nth_element(length.begin(), length.begin() + length.size() / 2, length.end());
+  return length[length.size() / 2];
+}
+
+/// What merging into `node_group` does to data the file kept apart (`WeldReport`): faces of three
+/// different nodes left with a repeated node, where the two nodes joined were apart in the file.
+/// Nodes at different positions were (joined by a tolerance, or by one id); nodes at one float32
+/// position are taken to have been when float32 keeps fewer than `precision_steps` steps along
+/// the mesh's median edge at its largest coordinate (coordinates far from the origin): otherwise
+/// they were the same point in the file too, and the face was degenerate there already, dropped
+/// without a word as a face repeating a vertex is.
 void count_collapsed(const Mesh& mesh, const std::vector<index_t>& node_group, WeldReport& report) {
+  constexpr double precision_steps = 1024;
   for (float x : mesh.node_pos)
     if (std::isfinite(x)) report.largest_coordinate = std::max(report.largest_coordinate, std::fabs(double(x)));
-  std::vector<index_t> joined;  // nodes of collapsed faces joined to another corner of theirs
+  int exponent = 0;
+  std::frexp(report.largest_coordinate, &exponent);
+  const double step = report.largest_coordinate > 0 ? std::ldexp(1.0, exponent - 24) : 0.0;
+  int coarse = -1;  // whether float32 is too coarse for the mesh: found when first needed
+  std::vector<index_t> joined;  // nodes of lost faces joined to another corner of theirs
   const std::size_t face_count = static_cast<std::size_t>(mesh.face_count());
   for (std::size_t f = 0; f < face_count; ++f) {
     const index_t* n = &mesh.face_nodes[3 * f];
     if (n[0] == n[1] || n[1] == n[2] || n[2] == n[0]) continue;
-    bool collapsed = false;
+    bool lost = false;
     for (int k = 0; k < 3; ++k) {
       const index_t a = n[k], b = n[(k + 1) % 3];
       if (node_group[a] != node_group[b]) continue;
-      collapsed = true;
+      if (same_position(mesh.node_pos, a, b)) {
+        if (coarse < 0) coarse = step * precision_steps > median_edge(mesh) ? 1 : 0;
+        if (!coarse) continue;
+      }
+      lost = true;
       joined.insert(joined.end(), {a, b});
     }
-    if (collapsed) ++report.collapsed_faces;
+    if (lost) ++report.collapsed_faces;
   }
   if (joined.empty()) return;
   std::sort(joined.begin(), joined.end());
