@@ -33,48 +33,9 @@ void fan(index_t corner_count, std::vector<index_t>& triangles) {
   for (index_t k = 1; k + 1 < corner_count; ++k) triangles.insert(triangles.end(), {0, k, k + 1});
 }
 
-}  // namespace
-
-std::vector<index_t> triangulate_polygon(const float* corner_pos, index_t corner_count) {
-  std::vector<index_t> triangles;
-  if (corner_count < 3) return triangles;
-  triangles.reserve(3 * static_cast<std::size_t>(corner_count - 2));
-  if (corner_count == 3) return {0, 1, 2};
-
-  // Newell's normal: robust for non-planar and partly collinear outlines.
-  double normal[3] = {0.0, 0.0, 0.0};
-  for (index_t i = 0; i < corner_count; ++i) {
-    const float* p = corner_pos + 3 * i;
-    const float* q = corner_pos + 3 * ((i + 1) % corner_count);
-    normal[0] += (static_cast<double>(p[1]) - q[1]) * (static_cast<double>(p[2]) + q[2]);
-    normal[1] += (static_cast<double>(p[2]) - q[2]) * (static_cast<double>(p[0]) + q[0]);
-    normal[2] += (static_cast<double>(p[0]) - q[0]) * (static_cast<double>(p[1]) + q[1]);
-  }
-  int axis = 0;
-  for (int k = 1; k < 3; ++k) {
-    if (std::fabs(normal[k]) > std::fabs(normal[axis])) axis = k;
-  }
-  if (!(std::fabs(normal[axis]) > 0.0) || !std::isfinite(normal[axis])) {
-    fan(corner_count, triangles);
-    return triangles;
-  }
-  // Project along the dominant axis onto the two others, ordered so that the outline stays
-  // counter-clockwise seen from the normal's side.
-  int u = (axis + 1) % 3, v = (axis + 2) % 3;
-  if (normal[axis] < 0.0) std::swap(u, v);
-  std::vector<Point2> point(corner_count);
-  for (index_t i = 0; i < corner_count; ++i) point[i] = {corner_pos[3 * i + u], corner_pos[3 * i + v]};
-
-  bool convex = true;
-  for (index_t i = 0; i < corner_count && convex; ++i) {
-    const index_t prev = (i + corner_count - 1) % corner_count, next = (i + 1) % corner_count;
-    convex = turn(point[prev], point[i], point[next]) >= 0.0;
-  }
-  if (convex || corner_count > ear_clipping_limit) {
-    fan(corner_count, triangles);
-    return triangles;
-  }
-
+/// Triangulates the counter-clockwise outline `point` by ear clipping, appending to `triangles`.
+void clip_ears(const std::vector<Point2>& point, std::vector<index_t>& triangles) {
+  const index_t corner_count = static_cast<index_t>(point.size());
   // Ear clipping: the first ear of the ring is clipped, again and again. Whether a corner is an ear
   // is kept between steps, since a clip changes it only for the clipped corner's two neighbours
   // (their triangles change) and for the corners it alone kept from being ears (an obstacle gone):
@@ -124,6 +85,51 @@ std::vector<index_t> triangulate_polygon(const float* corner_pos, index_t corner
     ring.erase(ring.begin() + static_cast<std::ptrdiff_t>(clip));
   }
   triangles.insert(triangles.end(), ring.begin(), ring.end());
+}
+
+}  // namespace
+
+std::vector<index_t> triangulate_polygon(const float* corner_pos, index_t corner_count) {
+  std::vector<index_t> triangles;
+  if (corner_count < 3) return triangles;
+  triangles.reserve(3 * static_cast<std::size_t>(corner_count - 2));
+  if (corner_count == 3) return {0, 1, 2};
+
+  // Newell's normal: robust for non-planar and partly collinear outlines.
+  double normal[3] = {0.0, 0.0, 0.0};
+  for (index_t i = 0; i < corner_count; ++i) {
+    const float* p = corner_pos + 3 * i;
+    const float* q = corner_pos + 3 * ((i + 1) % corner_count);
+    normal[0] += (static_cast<double>(p[1]) - q[1]) * (static_cast<double>(p[2]) + q[2]);
+    normal[1] += (static_cast<double>(p[2]) - q[2]) * (static_cast<double>(p[0]) + q[0]);
+    normal[2] += (static_cast<double>(p[0]) - q[0]) * (static_cast<double>(p[1]) + q[1]);
+  }
+  int axis = 0;
+  for (int k = 1; k < 3; ++k) {
+    if (std::fabs(normal[k]) > std::fabs(normal[axis])) axis = k;
+  }
+  if (!(std::fabs(normal[axis]) > 0.0) || !std::isfinite(normal[axis])) {
+    fan(corner_count, triangles);
+    return triangles;
+  }
+  // Project along the dominant axis onto the two others, ordered so that the outline stays
+  // counter-clockwise seen from the normal's side.
+  int u = (axis + 1) % 3, v = (axis + 2) % 3;
+  if (normal[axis] < 0.0) std::swap(u, v);
+  std::vector<Point2> point(corner_count);
+  for (index_t i = 0; i < corner_count; ++i) point[i] = {corner_pos[3 * i + u], corner_pos[3 * i + v]};
+
+  bool convex = true;
+  for (index_t i = 0; i < corner_count && convex; ++i) {
+    const index_t prev = (i + corner_count - 1) % corner_count, next = (i + 1) % corner_count;
+    convex = turn(point[prev], point[i], point[next]) >= 0.0;
+  }
+  if (convex || corner_count > ear_clipping_limit) {
+    fan(corner_count, triangles);
+    return triangles;
+  }
+
+  clip_ears(point, triangles);
   return triangles;
 }
 
