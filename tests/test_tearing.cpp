@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <nlohmann/json.hpp>
+#include <stb_image_write.h>
 
 #include "catch.h"
 #include "cli_support.h"
@@ -37,7 +38,7 @@ constexpr int pull_frames = 24;
 /// A sheet [0,1]² notched by a slit from its bottom border to (0.5, 0.25) in frame 1, its left and
 /// right strips pulled apart by keyed pins (0.15 m each way over `pull_frames` frames), tearing at
 /// `stretch`.
-std::string pull_script(double stretch) {
+std::string pull_script(double stretch, const std::string& more_keys = "") {
   const std::string frames = std::to_string(pull_frames);
   return R"({"version": 1, "frames": )" + frames + R"(,
     "cuts": [{"frame": 1, "space": "rest-xy", "polyline": [[0.5, -0.1], [0.5, 0.25]]}],
@@ -50,7 +51,20 @@ std::string pull_script(double stretch) {
          "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": )" +
          frames + R"(, "offset": [0.15, 0, 0]}]}],
       "tearing": {"stretch": )" +
-         std::to_string(stretch) + R"(}}})";
+         std::to_string(stretch) + more_keys + R"(}}})";
+}
+
+/// The tearing keys that vary the limits, all at once (`pull_script`'s `more_keys`), with the
+/// strength map they name written into `dir`: a soft band a twentieth weaker along u = 0.5.
+std::string every_limit_key(const TempDir& dir) {
+  std::vector<unsigned char> texels(64 * 4);
+  for (int j = 0; j < 4; ++j)
+    for (int i = 0; i < 64; ++i)
+      texels[j * 64 + i] = static_cast<unsigned char>(
+          std::lround(255 * (1 - 0.05 * std::exp(-std::pow(((i + 0.5) / 64 - 0.5) / 0.1, 2)))));
+  REQUIRE(stbi_write_png((dir / "weak.png").string().c_str(), 64, 4, 1, texels.data(), 64) != 0);
+  return R"(, "weave": {"warp": [0, 1], "weft_strength": 0.95}, "seam_strength": 0.95, "variation": 0.05,
+    "seed": 7, "strength_map": "weak.png")";
 }
 
 tear::Mesh pull_sheet() {
@@ -139,9 +153,12 @@ TEST_CASE("tearing: the same pull with a high limit does not tear", "[tearing]")
 }
 
 TEST_CASE("tearing: a tearing run gives the same bytes twice and when resumed, and reports its tears", "[tearing]") {
+  // With the limit alone, and with every key that varies it (grain, seams, noise, a painted map).
+  const bool every_key = GENERATE(false, true);
+  INFO((every_key ? "every limit key" : "the limit alone"));
   TempDir dir;
   tear::write_mesh(pull_sheet(), (dir / "sheet.obj").string());
-  const fs::path script = dir.file("pull.json", pull_script(1.3));
+  const fs::path script = dir.file("pull.json", pull_script(1.3, every_key ? every_limit_key(dir) : ""));
   const std::string device = tear::to_string(tear::test::test_device());
   const std::string inputs = tear::test::quoted(dir / "sheet.obj") + " " + tear::test::quoted(script);
   const auto run = [&](const std::string& folder, const std::string& extra = "") {
@@ -399,8 +416,12 @@ TEST_CASE("tearing: CUDA and CPU tear the pulled sheet alike", "[tearing][parity
   }
   // The same pull on both backends, frame by frame: the same faces torn (same topology, node for
   // node), positions within the solver's parity bound.
+  const bool every_key = GENERATE(false, true);
+  INFO((every_key ? "every limit key" : "the limit alone"));
+  TempDir dir;
   const tear::Mesh mesh = pull_sheet();
-  const tear::CutScript script = tear::parse_cut_script(pull_script(1.3), "pull.json");
+  const tear::CutScript script = tear::parse_cut_script(pull_script(1.3, every_key ? every_limit_key(dir) : ""),
+                                                        (dir / "pull.json").string());
   std::vector<tear::Mesh> frames[2];
   int torn[2] = {0, 0};
   const tear::Device devices[2] = {tear::Device::cpu, tear::Device::cuda};
