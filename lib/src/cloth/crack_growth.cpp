@@ -87,13 +87,22 @@ bool CrackField::advance(const Tip& tip, const std::vector<double>& T, std::vect
   }
   const double step = std::max(options_.step_m(), 1.5 * longest);
   const bool on_seam = !seam_path.empty() && dot(unit(sub(seam_path[1], seam_path[0])), d) > 0.999999;
-  const Vec3 q = on_seam ? seam_path[1] : add(tip.course, scale(d, step));
+  Vec3 q = on_seam ? seam_path[1] : add(tip.course, scale(d, step));
+  // Aimed from the crack's line, the step still leaves the tip by half a step at least: a path
+  // shorter than the faces at the tip snaps to nothing, and the tip would stay where it is.
+  if (!on_seam && dot(sub(q, tip.at), d) < 0.5 * step) q = add(tip.at, scale(d, step));
   // Within `radius` of another crack or the border: join it the shortest way, unless that cuts off
   // a piece under `min_piece`.
   Vec3 b;
   index_t edge = -1;
   if (nearest_border(q, &d, std::max(options_.radius, step), tip.node, b, edge) ||
       nearest_border(tip.at, &d, std::max(options_.radius, step), tip.node, b, edge)) {
+    // A border at the tip itself (the far flank of a crack that already ran through here): the
+    // cloth is parted there, and a cut from the tip to itself would only cut slivers off.
+    if (norm(sub(b, tip.at)) < 0.5 * longest) {
+      ratio = 0;
+      return false;
+    }
     if (piece_cut_off(tip.node, b, edge) < options_.min_piece_m2()) {
       ratio = 0;  // held: it cannot run on without cutting off a shred
       return false;
