@@ -3,7 +3,14 @@
 // Input layout: byte 0 picks the mesh file's extension (`fuzz_extensions`, byte 0 modulo their
 // count); the bytes after it, up to the line `fuzz_script_separator`, are the mesh file; the bytes
 // after that line are a cut script. Without the separator the whole rest is the mesh and the cut
-// is `fuzz_default_script`.
+// is `fuzz_default_script`. Two values of byte 0 pick other inputs instead:
+// - `fuzz_gltf_with_files`: a glTF and the files it names. The mesh part is split at the lines
+//   `fuzz_file_separator`: the glTF first, then files written beside it as `a.bin`, `b.bin`, ... and
+//   one in a subfolder, `sub/c.bin`, while a file outside the glTF's folder, `outside.bin`, holds a
+//   marker: a mesh read with the marker's bytes in its positions fails (a uri got out);
+// - `fuzz_checkpoint`: a checkpoint file (read_checkpoint, Cloth::load_state on a small sheet and
+//   check_checkpoint_cloth must accept it whole or refuse it with an input error; what they accept
+//   must be a valid mesh).
 //
 // What counts as a failure (abort, so that libFuzzer and the ctest replay report it):
 // - any exception other than a `tear::Error` of kind input from reading the mesh or the script
@@ -22,20 +29,28 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <exception>
+#include <filesystem>
 #include <fstream>
 #include <string>
 #include <vector>
 
+#include "tear/checkpoint.h"
 #include "tear/cloth.h"
 #include "tear/cut_script.h"
 #include "tear/error.h"
+#include "tear/make_sheet.h"
 #include "tear/read_mesh.h"
 #include "tear/validate_mesh.h"
 
 namespace {
 
 const char* const fuzz_extensions[] = {"obj", "ply", "gltf", "glb"};
+constexpr std::uint8_t fuzz_gltf_with_files = 0xF0, fuzz_checkpoint = 0xF1;
+const char fuzz_file_separator[] = "\n%%file\n";
+// Outside the glTF's folder: positions made of these floats mean a uri reached it.
+constexpr float outside_marker = 1234.5f;
 const char fuzz_script_separator[] = "\n%%script\n";
 const char fuzz_default_script[] =
     R"({"version": 1, "frames": 2, "cuts": [
@@ -91,11 +106,79 @@ bool small_enough(const tear::CutScript& script) {
   return true;
 }
 
+void write_file(const std::string& path, const std::string& bytes) {
+  std::ofstream out(path, std::ios::binary | std::ios::trunc);
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  if (!out) fail("cannot write " + path);
+}
+
+/// A glTF with the files it names beside it, one below it, and a marked one outside its folder.
+void fuzz_gltf_files(const std::string& bytes) {
+  std::vector<std::string> parts;
+  for (std::size_t at = 0;;) {
+    const std::size_t next = bytes.find(fuzz_file_separator, at);
+    parts.push_back(bytes.substr(at, next == std::string::npos ? std::string::npos : next - at));
+    if (next == std::string::npos || parts.size() == 5) break;
+    at = next + sizeof fuzz_file_separator - 1;
+  }
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::path(scratch_folder()) / "gltf";
+  std::error_code ignored;
+  fs::remove_all(folder, ignored);
+  fs::create_directories(folder / "sub");
+  std::string marker(4096, '\0');
+  for (std::size_t i = 0; i + sizeof(float) <= marker.size(); i += sizeof(float))
+    std::memcpy(&marker[i], &outside_marker, sizeof(float));
+  write_file((fs::path(scratch_folder()) / "outside.bin").string(), marker);
+  const char* names[] = {"a.bin", "b.bin", "sub/c.bin", "d.bin"};
+  for (std::size_t i = 1; i < parts.size(); ++i) write_file((folder / names[i - 1]).string(), parts[i]);
+  const std::string path = (folder / "mesh.gltf").string();
+  write_file(path, parts[0]);
+  tear::Mesh mesh;
+  if (!accepted("read_mesh (glTF with files)", [&] { mesh = tear::read_mesh(path); })) return;
+  for (float x : mesh.node_pos)
+    if (x == outside_marker) fail("a glTF read the marked file outside its folder");
+  const tear::MeshReport report = tear::validate_mesh(mesh, tear::Device::cpu);
+  note("glTF with files: " + std::to_string(mesh.face_count()) + " faces, " + report.describe());
+}
+
+/// A checkpoint: read, loaded over a small sheet, checked; what is accepted must be a valid mesh.
+void fuzz_checkpoint_file(const std::string& bytes) {
+  const std::string path = scratch_folder() + "/state.ckpt";
+  write_file(path, bytes);
+  tear::Checkpoint checkpoint;
+  const bool read = accepted("read_checkpoint", [&] { checkpoint = tear::read_checkpoint(path); });
+  ::unlink(path.c_str());
+  if (!read) return;
+  tear::SheetOptions options;
+  options.face_count = 32;  // 25 nodes on [0, 1]², as the seed checkpoint's run had
+  const tear::Mesh sheet = tear::make_sheet(options);
+  const tear::CutScript script = tear::parse_cut_script(fuzz_default_script, "fuzz.json");
+  tear::Cloth cloth(sheet, tear::Device::cpu);
+  if (!accepted("load_state", [&] {
+        cloth.load_state(checkpoint.cloth_state, path);
+        tear::check_checkpoint_cloth(path, checkpoint.frame, cloth, sheet, script);
+      }))
+    return;
+  const tear::MeshReport result = tear::validate_mesh(cloth.mesh(), tear::Device::cpu);
+  if (!result.ok()) fail("an accepted checkpoint gave an invalid mesh: " + result.describe());
+  note("checkpoint of frame " + std::to_string(checkpoint.frame) + " accepted: " +
+       std::to_string(cloth.face_count()) + " faces");
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
   if (size < 1) return 0;
   const std::string bytes(reinterpret_cast<const char*>(data) + 1, size - 1);
+  if (data[0] == fuzz_gltf_with_files) {
+    fuzz_gltf_files(bytes);
+    return 0;
+  }
+  if (data[0] == fuzz_checkpoint) {
+    fuzz_checkpoint_file(bytes);
+    return 0;
+  }
   const std::size_t separator = bytes.find(fuzz_script_separator);
   const std::string mesh_bytes = bytes.substr(0, separator);
   const std::string script_text = separator == std::string::npos
