@@ -146,6 +146,18 @@ struct add_disc_sums {
   }
 };
 
+/// Face f's share of a disc's sums: its area times its stretch tensor and its strength, its area.
+TEAR_HD inline DiscSums face_disc_term(const index_t* face_nodes, const float* node_rest, const float* node_pos,
+                                       const float* face_strength, index_t f) {
+  DiscSums out;
+  double t[6];
+  const double A = face_stretch_tensor(face_nodes, node_rest, node_pos, f, t);
+  for (int s = 0; s < 6; ++s) out.v[s] = A * t[s];
+  out.v[6] = A * (face_strength ? face_strength[f] : 1.0);
+  out.v[7] = A;
+  return out;
+}
+
 /// Per entry i of the discs' face lists (face `faces[i]`): its DiscSums term, to be summed per
 /// disc (a reduction by key over the entries, which lie disc by disc).
 struct disc_term {
@@ -155,14 +167,7 @@ struct disc_term {
   const float* node_pos;
   const float* face_strength;  // null: 1
   TEAR_HD DiscSums operator()(index_t i) const {
-    const index_t f = faces[i];
-    DiscSums out;
-    double t[6];
-    const double A = face_stretch_tensor(face_nodes, node_rest, node_pos, f, t);
-    for (int s = 0; s < 6; ++s) out.v[s] = A * t[s];
-    out.v[6] = A * (face_strength ? face_strength[f] : 1.0);
-    out.v[7] = A;
-    return out;
+    return face_disc_term(face_nodes, node_rest, node_pos, face_strength, faces[i]);
   }
 };
 
@@ -229,18 +234,13 @@ TEAR_HD inline double principal_in_plane(const double* S, const double n[3]) {
 /// strength); 0 where it cannot (near a crack or a tip, `may_start`, or its own stretch under the
 /// limit, which every candidate passes first). The faces' largest bounds every start of a substep.
 struct start_ratio_of {
-  const index_t* face_nodes;
-  const float* node_rest;
-  const float* node_pos;
-  const float* face_strength;  // null: 1
-  const std::uint8_t* may_start;
+  start_stretch_ratio_of own;  // the face's own stretch over the limit, 0 where it may not start
   FaceGrid grid;
   double radius;
-  double start;
   TEAR_HD double operator()(index_t f) const {
-    if (!may_start[f]) return 0;
-    const double own = face_principal_stretch(face_nodes, node_rest, node_pos, f);
-    if (!(own > 0.999 * start * (face_strength ? face_strength[f] : 1.0))) return 0;
+    if (!(own(f) > 0.999)) return 0;
+    const index_t* face_nodes = own.face_nodes;
+    const float* node_rest = own.node_rest;
     double c[3], n[3], E1[3], E2[3];
     rest_centroid(face_nodes, node_rest, f, c);
     for (int d = 0; d < 3; ++d) {
@@ -260,7 +260,7 @@ struct start_ratio_of {
       hi[a] = static_cast<std::int64_t>(floor((c[a] + radius) / grid.cell));
     }
     const auto wrap = [](std::int64_t v) { return (v + (std::int64_t(1) << 20)) & ((std::int64_t(1) << 21) - 1); };
-    double sum[6] = {0, 0, 0, 0, 0, 0}, strength = 0, area = 0, t[6];
+    double sum[6] = {0, 0, 0, 0, 0, 0}, strength = 0, area = 0;
     for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
       for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
         for (std::int64_t z = lo[2]; z <= hi[2]; ++z) {
@@ -279,16 +279,16 @@ struct start_ratio_of {
             rest_centroid(face_nodes, node_rest, g, q);
             const double dx = q[0] - c[0], dy = q[1] - c[1], dz = q[2] - c[2];
             if (!(sqrt(dx * dx + dy * dy + dz * dz) <= radius)) continue;
-            const double A = face_stretch_tensor(face_nodes, node_rest, node_pos, g, t);
-            area += A;
-            strength += A * (face_strength ? face_strength[g] : 1.0);
-            for (int k = 0; k < 6; ++k) sum[k] += A * t[k];
+            const DiscSums term = face_disc_term(face_nodes, node_rest, own.node_pos, own.face_strength, g);
+            for (int k = 0; k < 6; ++k) sum[k] += term.v[k];
+            strength += term.v[6];
+            area += term.v[7];
           }
         }
     if (!(area > 0)) return 0;
     for (int k = 0; k < 6; ++k) sum[k] = sum[k] / area;
     const double lambda = principal_in_plane(sum, n);
-    return sqrt(lambda > 0 ? lambda : 0.0) / (start * (strength / area));
+    return sqrt(lambda > 0 ? lambda : 0.0) / (own.start * (strength / area));
   }
 };
 

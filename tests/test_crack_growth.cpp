@@ -24,15 +24,23 @@
 
 using namespace tear::test::pulls;
 
+namespace {
+/// What crack growth reads of `cloth`: its rest shape, faces and topology.
+tear::CrackMesh crack_mesh_of(const tear::Cloth& cloth) {
+  tear::CrackMesh mesh;
+  mesh.node_rest = cloth.node_rest();
+  mesh.face_nodes = cloth.face_nodes();
+  mesh.topo = cloth.topology();
+  return mesh;
+}
+}  // namespace
+
 TEST_CASE("crack growth: a slit's end is its one tip, and a uniform stretch smooths to itself", "[tearing]") {
   tear::Cloth cloth(sheet(800, true), tear::test::test_device());
   tear::CutLine line;
   line.polyline = {{0.5, -0.1}, {0.5, 0.25}};
   cloth.cut({line}, tear::CutOptions{});
-  tear::CrackMesh mesh;
-  mesh.node_rest = cloth.node_rest();
-  mesh.face_nodes = cloth.face_nodes();
-  mesh.topo = cloth.topology();
+  tear::CrackMesh mesh = crack_mesh_of(cloth);
   tear::TearingOptions options;
   options.stretch = 1.1;
   const tear::CrackField field(mesh, options);
@@ -75,10 +83,7 @@ TEST_CASE("crack growth: the backend's quick check never skips a substep that wo
   tear::CutLine line;
   line.polyline = {{0.5, -0.1}, {0.5, 0.25}};
   cloth.cut({line}, tear::CutOptions{});
-  tear::CrackMesh mesh;
-  mesh.node_rest = cloth.node_rest();
-  mesh.face_nodes = cloth.face_nodes();
-  mesh.topo = cloth.topology();
+  tear::CrackMesh mesh = crack_mesh_of(cloth);
   for (const bool weave : {false, true}) {
     INFO((weave ? "woven" : "plain"));
     tear::TearingOptions options;
@@ -137,15 +142,11 @@ TEST_CASE("crack growth: the backend's quick check never skips a substep that wo
           }
         double start = 0, largest = 0;
         const tear::kernels::start_ratio_of start_ratio{
-            mesh.face_nodes.data(),
-            mesh.node_rest.data(),
-            pos.data(),
-            nullptr,
-            probes.may_start.data(),
+            {mesh.face_nodes.data(), mesh.node_rest.data(), pos.data(), nullptr, probes.may_start.data(),
+             options.start_stretch()},
             tear::kernels::FaceGrid{probes.cell_key.data(), probes.cell_face.data(),
                                     static_cast<index_t>(probes.cell_key.size()), probes.cell},
-            probes.radius,
-            options.start_stretch()};
+            probes.radius};
         for (index_t f = 0; f < mesh.topo.face_count; ++f) {
           largest = std::max(largest, tear::kernels::face_principal_stretch(mesh.face_nodes.data(),
                                                                             mesh.node_rest.data(), pos.data(), f));

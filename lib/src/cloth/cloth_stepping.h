@@ -222,34 +222,34 @@ class StepJob {
       const auto terms = thrust::make_transform_iterator(
           zero, kernels::disc_term{raw<index_t>(probe_faces_), raw<index_t>(cloth.face_nodes),
                                    raw<float>(cloth.node_rest), raw<float>(cloth.node_pos), strength});
-      const auto ends = thrust::reduce_by_key(Traits<System>::policy(), probe_keys_.begin(), probe_keys_.end(), terms,
-                                              sum_keys_.begin(), sums_.begin(), thrust::equal_to<index_t>(),
-                                              kernels::add_disc_sums());
-      const std::size_t n = static_cast<std::size_t>(ends.first - sum_keys_.begin());
-      const std::vector<index_t> keys = to_host<index_t>(sum_keys_);
+      thrust::reduce_by_key(Traits<System>::policy(), probe_keys_.begin(), probe_keys_.end(), terms, sum_keys_.begin(),
+                            sums_.begin(), thrust::equal_to<index_t>(), kernels::add_disc_sums());
+      // The keys come out as the discs with faces, in order: the i-th sum is the i-th such disc's,
+      // so only the sums are read back.
       const std::vector<kernels::DiscSums> values = to_host<kernels::DiscSums>(sums_);
-      for (std::size_t i = 0; i < n; ++i) std::copy(values[i].v, values[i].v + 8, &sums[8 * std::size_t(keys[i])]);
+      std::size_t i = 0;
+      for (std::size_t p = 0; p < probes_.count(); ++p)
+        if (probes_.offsets[p + 1] > probes_.offsets[p]) {
+          std::copy(values[i].v, values[i].v + 8, &sums[8 * p]);
+          ++i;
+        }
     }
     // The start faces' discs on a GPU, where they cost a few microseconds; on the CPU each face over
     // the limit would sum its disc on one of a few threads, and the faces' own stretch bounds the
     // start instead (a plan more often, the same decisions).
+    const kernels::start_stretch_ratio_of own{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
+                                              raw<float>(cloth.node_pos), strength, raw<std::uint8_t>(may_start_),
+                                              options_.tearing.start_stretch()};
     double start = 0;
     if (std::is_same<System, Omp>::value) {
-      start = thrust::transform_reduce(
-          Traits<System>::policy(), zero, zero + cloth.face_count(),
-          kernels::start_stretch_ratio_of{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
-                                          raw<float>(cloth.node_pos), strength, raw<std::uint8_t>(may_start_),
-                                          options_.tearing.start_stretch()},
-          0.0, thrust::maximum<double>());
+      start = thrust::transform_reduce(Traits<System>::policy(), zero, zero + cloth.face_count(), own, 0.0,
+                                       thrust::maximum<double>());
     } else {
       const kernels::FaceGrid grid{raw<std::int64_t>(cell_key_), raw<index_t>(cell_face_),
                                    static_cast<index_t>(cell_key_.size()), probes_.cell};
-      start = thrust::transform_reduce(
-          Traits<System>::policy(), zero, zero + cloth.face_count(),
-          kernels::start_ratio_of{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
-                                  raw<float>(cloth.node_pos), strength, raw<std::uint8_t>(may_start_), grid,
-                                  probes_.radius, options_.tearing.start_stretch()},
-          0.0, thrust::maximum<double>());
+      start = thrust::transform_reduce(Traits<System>::policy(), zero, zero + cloth.face_count(),
+                                       kernels::start_ratio_of{own, grid, probes_.radius}, 0.0,
+                                       thrust::maximum<double>());
     }
     return field_->may_cut(probes_, sums, start);
   }

@@ -102,25 +102,33 @@ void add_tearing(nlohmann::json& entry, const FrameResult& frame) {
   entry["torn_length_m"] = frame.torn_length;
 }
 
-}  // namespace
-
-FaceQuality face_quality(const Mesh& mesh) {
+/// Per face the cross product of two of its edges (its normal scaled by twice its area), and per
+/// node the sum of those of its faces: the area-weighted normals.
+void face_crosses(const Mesh& mesh, std::vector<Vec3>& face_cross, std::vector<Vec3>& node_sum) {
   const index_t face_count = mesh.face_count();
-  const kernels::face_degenerate degenerate{mesh.node_pos.data(), mesh.face_nodes.data(), degenerate_area_ratio};
-  // Each face's normal scaled by twice its area, summed at its nodes: at a corner, the sum less the
-  // face's own is the normal of the other faces there.
-  std::vector<Vec3> face_cross(static_cast<std::size_t>(face_count));
-  std::vector<Vec3> node_sum(static_cast<std::size_t>(mesh.node_count()), Vec3{0, 0, 0});
-  FaceQuality quality;
+  face_cross.assign(static_cast<std::size_t>(face_count), Vec3{0, 0, 0});
+  node_sum.assign(static_cast<std::size_t>(mesh.node_count()), Vec3{0, 0, 0});
   for (index_t f = 0; f < face_count; ++f) {
     const index_t* nodes = &mesh.face_nodes[3 * static_cast<std::size_t>(f)];
     const Vec3 p0 = node_at(mesh.node_pos, nodes[0]);
     face_cross[f] = cross(sub(node_at(mesh.node_pos, nodes[1]), p0), sub(node_at(mesh.node_pos, nodes[2]), p0));
     for (int k = 0; k < 3; ++k)
       for (int a = 0; a < 3; ++a) node_sum[nodes[k]][a] += face_cross[f][a];
-    quality.degenerate += degenerate(f);
   }
+}
+
+}  // namespace
+
+FaceQuality face_quality(const Mesh& mesh) {
+  const index_t face_count = mesh.face_count();
+  const kernels::face_degenerate degenerate{mesh.node_pos.data(), mesh.face_nodes.data(), degenerate_area_ratio};
+  // At a corner, the node's sum of area-weighted normals less the face's own is the normal of the
+  // other faces there.
+  std::vector<Vec3> face_cross, node_sum;
+  face_crosses(mesh, face_cross, node_sum);
+  FaceQuality quality;
   for (index_t f = 0; f < face_count; ++f) {
+    quality.degenerate += degenerate(f);
     const index_t* nodes = &mesh.face_nodes[3 * static_cast<std::size_t>(f)];
     if (nodes[0] == nodes[1] || nodes[1] == nodes[2] || nodes[2] == nodes[0]) continue;
     int against = 0;
@@ -143,17 +151,8 @@ std::string FaceQuality::describe() const {
 
 std::vector<float> area_weighted_corner_normals(const Mesh& mesh) {
   const index_t face_count = mesh.face_count();
-  // The cross product of two edges is the face normal scaled by twice its area: summing them
-  // weights each face by its area.
-  std::vector<Vec3> face_cross(static_cast<std::size_t>(face_count));
-  std::vector<Vec3> node_sum(static_cast<std::size_t>(mesh.node_count()), Vec3{0, 0, 0});
-  for (index_t f = 0; f < face_count; ++f) {
-    const index_t* nodes = &mesh.face_nodes[3 * static_cast<std::size_t>(f)];
-    const Vec3 p0 = node_at(mesh.node_pos, nodes[0]);
-    face_cross[f] = cross(sub(node_at(mesh.node_pos, nodes[1]), p0), sub(node_at(mesh.node_pos, nodes[2]), p0));
-    for (int k = 0; k < 3; ++k)
-      for (int a = 0; a < 3; ++a) node_sum[nodes[k]][a] += face_cross[f][a];
-  }
+  std::vector<Vec3> face_cross, node_sum;
+  face_crosses(mesh, face_cross, node_sum);
   std::vector<float> corner_normal(9 * static_cast<std::size_t>(face_count), 0.0f);
   for (index_t f = 0; f < face_count; ++f) {
     for (int k = 0; k < 3; ++k) {
