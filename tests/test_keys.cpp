@@ -109,10 +109,10 @@ TEST_CASE("keys: every error names the file and the key path", "[keys]") {
           {"frame": 1, "offset": [0,0,0]}]}]})",
        "simulation.colliders[0].keys[1].frame: expected a frame after the previous key's (2), got 1"},
       {R"({"colliders": [{"keys": [{"frame": 2, "offset": [0,0,0]}]}]})",
-       "simulation.colliders[0]: expected exactly one of \"plane\" or \"sphere\", got an object"},
+       "simulation.colliders[0]: expected exactly one of \"plane\", \"sphere\" or \"mesh\", got an object"},
       {R"({"colliders": [{"sphere": {"center": [0,0,0], "radius": 1}, "keys": [{"frame": 2, "offset": [0,0,0]}],
           "spin": 1}]})",
-       "simulation.colliders[0].spin: unknown key (expected plane, sphere or keys)"},
+       "simulation.colliders[0].spin: unknown key (expected plane, sphere, mesh, pivot or keys)"},
   };
   for (const auto& [text, message] : cases) {
     INFO(text);

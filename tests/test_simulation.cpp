@@ -21,6 +21,14 @@
 
 namespace {
 
+tear::Collider sphere_collider(std::array<double, 3> centre, double radius) {
+  tear::Collider c;
+  c.kind = tear::Collider::Kind::sphere;
+  c.point = centre;
+  c.radius = radius;
+  return c;
+}
+
 using tear::index_t;
 using tear::PdSolver;
 using tear::SimulationOptions;
@@ -227,7 +235,7 @@ TEST_CASE("simulation: every options error names the file and the key path", "[s
        "simulation.pins[0].nodes[1]: expected a node index (an integer >= 0), got -1"},
       {R"({"pins": [{"nodes": 3}]})", "simulation.pins[0].nodes: expected an array of node indices, got 3"},
       {R"({"colliders": [{"cube": {}}]})",
-       "simulation.colliders[0].cube: unknown key (expected plane, sphere or keys)"},
+       "simulation.colliders[0].cube: unknown key (expected plane, sphere, mesh, pivot or keys)"},
       {R"({"colliders": [{"plane": {"point": [0,0,0], "normal": [0,0,0]}}]})",
        "simulation.colliders[0].plane.normal: expected a non-zero [x, y, z] vector, got [0, 0, 0]"},
       {R"({"colliders": [{"plane": {"point": [0,0,0]}}]})",
@@ -534,7 +542,7 @@ TEST_CASE("simulation: two runs give the same bits", "[simulation]") {
   const tear::Mesh mesh = horizontal_sheet(800, true);
   SimulationOptions o;
   o.pins = {edge_pin()};
-  o.colliders = {tear::Collider{tear::Collider::Kind::sphere, {0.5, -0.4, 0.3}, {0, 1, 0}, 0.2, {}}};
+  o.colliders = {sphere_collider({0.5, -0.4, 0.3}, 0.2)};
   std::vector<float> pos[2], vel[2];
   for (int run = 0; run < 2; ++run) {
     PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
@@ -578,7 +586,7 @@ TEST_CASE("simulation: every way of launching a step gives the same bits", "[sim
   o.substeps = 2;
   o.iterations = 25;
   o.pins = {edge_pin()};
-  o.colliders = {tear::Collider{tear::Collider::Kind::sphere, {0.5, -0.4, 0.3}, {0, 1, 0}, 0.2, {}}};
+  o.colliders = {sphere_collider({0.5, -0.4, 0.3}, 0.2)};
   constexpr int mode_count = 6;
   const char* modes[mode_count] = {"persistent", "one-pass", "shared", "two-pass", "graph", "plain"};
   const int modes_run = tear::test::test_device() == tear::Device::cuda ? mode_count : 2;

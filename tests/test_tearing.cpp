@@ -38,11 +38,11 @@ constexpr int pull_frames = 24;
 /// A sheet [0,1]² notched by a slit from its bottom border to (0.5, 0.25) in frame 1, its left and
 /// right strips pulled apart by keyed pins (0.15 m each way over `pull_frames` frames), tearing at
 /// `stretch`.
-std::string pull_script(double stretch, const std::string& more_keys = "") {
+std::string pull_script(double stretch, const std::string& more_keys = "", const std::string& more_simulation = "") {
   const std::string frames = std::to_string(pull_frames);
   return R"({"version": 1, "frames": )" + frames + R"(,
     "cuts": [{"frame": 1, "space": "rest-xy", "polyline": [[0.5, -0.1], [0.5, 0.25]]}],
-    "simulation": {"gravity": [0, 0, 0], "substeps": 4, "iterations": 40,
+    "simulation": {"gravity": [0, 0, 0], "substeps": 4, "iterations": 40,)" + more_simulation + R"(
       "pins": [
         {"box": {"min": [-1, -1, -1], "max": [0.04, 2, 1]},
          "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": )" +
@@ -152,13 +152,19 @@ TEST_CASE("tearing: the same pull with a high limit does not tear", "[tearing]")
   CHECK_FALSE(r.sides_apart);
 }
 
+/// Self-collision of the torn pieces (`pull_script`'s `more_simulation`).
+const char* const self_collision = R"("collision": {"self": true, "thickness": 0.004, "friction": 0.2},)";
+
 TEST_CASE("tearing: a tearing run gives the same bytes twice and when resumed, and reports its tears", "[tearing]") {
-  // With the limit alone, and with every key that varies it (grain, seams, noise, a painted map).
-  const bool every_key = GENERATE(false, true);
-  INFO((every_key ? "every limit key" : "the limit alone"));
+  // With the limit alone, with every key that varies it (grain, seams, noise, a painted map), and
+  // with those and self-collision.
+  const int keys = GENERATE(0, 1, 2);
+  const bool every_key = keys > 0;
+  INFO((keys == 0 ? "the limit alone" : keys == 1 ? "every limit key" : "every limit key and self-collision"));
   TempDir dir;
   tear::write_mesh(pull_sheet(), (dir / "sheet.obj").string());
-  const fs::path script = dir.file("pull.json", pull_script(1.3, every_key ? every_limit_key(dir) : ""));
+  const fs::path script = dir.file(
+      "pull.json", pull_script(1.3, every_key ? every_limit_key(dir) : "", keys == 2 ? self_collision : ""));
   const std::string device = tear::to_string(tear::test::test_device());
   const std::string inputs = tear::test::quoted(dir / "sheet.obj") + " " + tear::test::quoted(script);
   const auto run = [&](const std::string& folder, const std::string& extra = "") {
@@ -416,12 +422,14 @@ TEST_CASE("tearing: CUDA and CPU tear the pulled sheet alike", "[tearing][parity
   }
   // The same pull on both backends, frame by frame: the same faces torn (same topology, node for
   // node), positions within the solver's parity bound.
-  const bool every_key = GENERATE(false, true);
-  INFO((every_key ? "every limit key" : "the limit alone"));
+  const int keys = GENERATE(0, 1, 2);
+  const bool every_key = keys > 0;
+  INFO((keys == 0 ? "the limit alone" : keys == 1 ? "every limit key" : "every limit key and self-collision"));
   TempDir dir;
   const tear::Mesh mesh = pull_sheet();
-  const tear::CutScript script = tear::parse_cut_script(pull_script(1.3, every_key ? every_limit_key(dir) : ""),
-                                                        (dir / "pull.json").string());
+  const tear::CutScript script = tear::parse_cut_script(
+      pull_script(1.3, every_key ? every_limit_key(dir) : "", keys == 2 ? self_collision : ""),
+      (dir / "pull.json").string());
   std::vector<tear::Mesh> frames[2];
   int torn[2] = {0, 0};
   const tear::Device devices[2] = {tear::Device::cpu, tear::Device::cuda};

@@ -85,8 +85,9 @@ struct TearStats {
   /// Wall time of the step's parts, milliseconds, each measured after waiting for the backend:
   /// the substeps themselves, deciding where to tear (a pass over the faces and a read-back after
   /// every substep), laying the cracks (the remesher's second half and the box pins applied again),
-  /// and rebuilding the solver's model for the torn cloth.
-  double solver_ms = 0, check_ms = 0, apply_ms = 0, rebuild_ms = 0;
+  /// and rebuilding the solver's model for the torn cloth; `collision_ms`, the collision pass after
+  /// the substeps (docs/simulation.md, *Collision*).
+  double solver_ms = 0, check_ms = 0, apply_ms = 0, rebuild_ms = 0, collision_ms = 0;
 };
 
 struct SimulationOptions;

@@ -14,12 +14,17 @@
 
 namespace tear {
 
-/// A translation at one frame of a keyed motion (`Pin::keys`, `Collider::keys`).
+/// A translation (and, for a mesh collider, a rotation) at one frame of a keyed motion
+/// (`Pin::keys`, `Collider::keys`).
 struct Key {
   /// The frame whose end the offset is reached at: frames count as the script's do, from 1; 0 is
   /// the start, before frame 1 is stepped.
   int frame = 0;
   std::array<double, 3> offset{};  ///< metres
+  /// A mesh collider's turn about its pivot: a unit axis and an angle in degrees (`rotation`);
+  /// none given: no turn at this key.
+  std::array<double, 3> axis{0, 1, 0};
+  double degrees = 0;
 };
 
 /// The offset of `keys` (frames strictly increasing) at `time`, in frames since the start (the end
@@ -59,14 +64,52 @@ struct Pin {
   std::vector<Key> keys;        ///< the motion of the pinned nodes; empty: they stay where they are
 };
 
-/// An obstacle nodes are pushed out of after every substep; static, or moved by its keys.
+/// The triangles of a mesh collider and its vertices' positions, as read from its file (or, for a
+/// sequence, one file per frame, all of one topology).
+struct ColliderMesh {
+  std::string file;                 ///< the file (or the sequence's pattern) as the script names it
+  std::vector<index_t> face_nodes;  ///< [3 * faces], counter-clockwise seen from outside
+  /// Positions of the vertices, [3 * vertices] metres, one array per frame of a sequence: frames[i]
+  /// is the body at the end of frame `first_frame + i` (time first_frame + i); one array for a
+  /// rigid mesh.
+  std::vector<std::vector<float>> frames;
+  int first_frame = 0;
+
+  index_t vertex_count() const { return frames.empty() ? 0 : static_cast<index_t>(frames[0].size() / 3); }
+  index_t face_count() const { return static_cast<index_t>(face_nodes.size() / 3); }
+};
+
+/// An obstacle the cloth is kept out of; static, or moved by its keys. Planes and spheres push
+/// nodes out after every substep; meshes take part in collision (`CollisionOptions`).
 struct Collider {
-  enum class Kind { plane, sphere };
+  enum class Kind { plane, sphere, mesh };
   Kind kind = Kind::plane;
   std::array<double, 3> point{};          ///< a point of the plane, or the sphere's centre, metres
   std::array<double, 3> normal{0, 1, 0};  ///< plane: the free side's normal, unit length (kind plane)
   double radius = 0;                      ///< sphere radius, metres, > 0 (kind sphere)
-  std::vector<Key> keys;                  ///< the translation of `point` over time; empty: static
+  std::shared_ptr<const ColliderMesh> mesh;  ///< kind mesh: its triangles and vertices
+  std::array<double, 3> pivot{};  ///< kind mesh: the point its keys' rotations turn it about, metres
+  std::string key_path;           ///< where the collider is in the script, e.g. "simulation.colliders[0]"
+  /// The translation of `point` (of a mesh: of its vertices, after the turn) over time; empty: static.
+  std::vector<Key> keys;
+};
+
+/// A mesh collider's vertex positions at `time` (frames since the start, as `key_offset`), into
+/// `out` [3 * vertices]: the sequence's frames linear between the two around `time` (the first
+/// before it, the last after it), turned about the pivot by the keys' rotation (the angle linear
+/// between keys of one axis, else the shorter way between their orientations), then moved by the
+/// keys' offset.
+void collider_positions(const Collider& collider, double time, std::vector<float>& out);
+
+/// Collision of the cloth with itself (its torn pieces included) and with mesh colliders
+/// (`simulation.collision`, docs/simulation.md, *Collision*): after the solver's iterations of every
+/// substep, node–face and edge–edge pairs closer than `thickness` or crossing over the substep's
+/// motion are pushed apart, on the side they started the substep on.
+struct CollisionOptions {
+  bool self = false;        ///< the cloth against itself
+  double thickness = 0.005; ///< metres kept between the cloth and itself or a mesh collider, > 0
+  double friction = 0;      ///< Coulomb coefficient of the contacts' tangential motion, >= 0
+  int iterations = 8;       ///< passes over the contacts per substep, >= 1
 };
 
 /// Chebyshev semi-iteration of the Jacobi global step (Wang 2015).
@@ -158,12 +201,18 @@ struct SimulationOptions {
   ChebyshevOptions chebyshev;
   std::vector<Pin> pins;
   std::vector<Collider> colliders;
+  CollisionOptions collision;
   TearingOptions tearing;
   /// The file the options came from, named in errors the solver raises (pins out of range).
   std::string source = "(simulation options)";
 
   /// Length of one implicit Euler step, seconds.
   double step_seconds() const { return 1.0 / (fps * substeps); }
+  /// Whether substeps end in the collision pass: the cloth collides with itself or with a mesh.
+  bool collides() const {
+    return collision.self || std::any_of(colliders.begin(), colliders.end(),
+                                         [](const Collider& c) { return c.kind == Collider::Kind::mesh; });
+  }
 };
 
 /// Bounds of the `simulation` keys, checked when a script is parsed (an input error naming the key
@@ -188,6 +237,13 @@ inline constexpr int max_chebyshev_delay = 100000;
 inline constexpr double max_collider_extent = 1e9;
 /// A node's pin is stored in a byte (0 free, p + 1 held by pin p).
 inline constexpr int max_pins = 255;
+/// `collision.thickness`, metres: beyond it the cloth's pieces stand apart as separate objects.
+inline constexpr double max_collision_thickness = 1;
+inline constexpr double max_collision_friction = 10;
+inline constexpr int max_collision_iterations = 1000;
+/// A mesh collider's faces (each file of a sequence), and the files of a sequence.
+inline constexpr std::int64_t max_collider_faces = 10000000;
+inline constexpr int max_collider_sequence_files = 100001;
 /// Metres: the largest coordinate of a key's offset (as of a collider's point).
 inline constexpr double max_key_offset = max_collider_extent;
 /// The largest frame of a key: the most frames a script has (cut_script.h `max_frames`).

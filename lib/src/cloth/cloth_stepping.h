@@ -20,6 +20,7 @@
 
 #include "backend/backend.h"
 #include "cloth/cloth_cutting.h"
+#include "cloth/collision_job.h"
 #include "cloth/crack_growth.h"
 #include "cloth_data/device_cloth.h"
 #include "node_identity.h"
@@ -39,6 +40,8 @@ class StepJob {
     options_ = options;
     solver_.reset();
     field_.reset();
+    collides_ = options_.collides();
+    if (collides_) collision_.start(cloth, options_);
     if (options_.tearing.enabled()) {
       // The fabric's strength per face, carried by cuts from here on.
       const std::vector<float> strength =
@@ -59,7 +62,7 @@ class StepJob {
   /// Steps frame `frame` of `cloth`, tearing it through `cutter` between substeps.
   void step(DeviceCloth<System>& cloth, CutJob<System>& cutter, int frame, TearStats& torn) {
     torn = TearStats{};
-    if (!options_.tearing.enabled()) {
+    if (!options_.tearing.enabled() && !collides_) {
       refresh_solver(cloth);
       solver_->step_in_place(raw<float>(cloth.node_pos), raw<float>(cloth.node_vel), frame);
       return;
@@ -78,10 +81,14 @@ class StepJob {
       refresh_solver(cloth);
       if (m.rebuilt) m.rebuild_end.record();
       m.substep_start.record();
+      if (collides_) collision_.begin(cloth);
       solver_->step_substep_in_place(raw<float>(cloth.node_pos), raw<float>(cloth.node_vel), frame, s);
       m.substep_end.record();
+      if (collides_) collision_.resolve(cloth, frame, s);
+      m.collision_end.record();
       const index_t faces_before = cloth.face_count();
-      m.applied = tear(cloth, cutter, m, torn);
+      m.applied = options_.tearing.enabled() && tear(cloth, cutter, m, torn);
+      if (!options_.tearing.enabled()) m.check_end.record();
       // Only a tear stops the run (the script's own cuts add faces as they were asked to).
       if (cloth.face_count() > faces_before && cloth.face_count() > face_budget_) over_budget(cloth, frame);
     }
@@ -90,7 +97,8 @@ class StepJob {
       const StepMarks& m = marks_[s];
       if (m.rebuilt) torn.rebuild_ms += QueueMark::elapsed_ms(m.rebuild_start, m.rebuild_end);
       torn.solver_ms += QueueMark::elapsed_ms(m.substep_start, m.substep_end);
-      torn.check_ms += QueueMark::elapsed_ms(m.substep_end, m.check_end);
+      torn.collision_ms += QueueMark::elapsed_ms(m.substep_end, m.collision_end);
+      torn.check_ms += QueueMark::elapsed_ms(m.collision_end, m.check_end);
       if (m.applied) torn.apply_ms += QueueMark::elapsed_ms(m.check_end, m.apply_end);
     }
   }
@@ -100,7 +108,7 @@ class StepJob {
   /// A torn substep's parts, marked in the backend's queue: the model's rebuild (where the mesh
   /// changed), the substep, the check, the tear's application (where the cloth tore).
   struct StepMarks {
-    QueueMark rebuild_start, rebuild_end, substep_start, substep_end, check_end, apply_end;
+    QueueMark rebuild_start, rebuild_end, substep_start, substep_end, collision_end, check_end, apply_end;
     bool rebuilt = false, applied = false;
   };
 
@@ -274,6 +282,8 @@ class StepJob {
   }
 
   SimulationOptions options_;
+  bool collides_ = false;            // substeps end in the collision pass
+  CollisionJob<System> collision_;
   std::unique_ptr<PdSolver::Impl> solver_;                       // the model of the mesh it was built for
   bool stale_ = false;                                           // the mesh changed since
   std::optional<CrackField> field_;                              // crack growth's view of the rest mesh, while it holds

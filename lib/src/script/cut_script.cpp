@@ -353,7 +353,7 @@ CutScript parse_cut_script(const std::string& text, const std::string& path_for_
   if (root.contains("simulation")) {
     if (!root["simulation"].is_object())
       reader.fail("simulation", "expected an object, got " + describe(root["simulation"]));
-    script.simulation = parse_simulation(root["simulation"], file);
+    script.simulation = parse_simulation(root["simulation"], file, script.frames);
     script.simulation->tearing.snap = script.snap;  // a tear's cut points snap as the script's cuts do
   }
   return script;

@@ -10,7 +10,9 @@
 #include "script/json_reader.h"
 #include "script/unit_vector.h"
 #include "tear/error.h"
+#include "tear/frame_path.h"
 #include "tear/input_file.h"
+#include "tear/read_mesh.h"
 
 namespace tear {
 
@@ -38,8 +40,9 @@ std::array<double, 3> bounded_point(const Reader& reader, const json& value, con
   return p;
 }
 
-/// `keys`: a non-empty array of {"frame": F, "offset": [x, y, z]}, frames strictly increasing.
-std::vector<Key> parse_keys(const Reader& reader, const json& value, const std::string& path) {
+/// `keys`: a non-empty array of {"frame": F, "offset": [x, y, z]}, frames strictly increasing; with
+/// `turns` (a mesh collider's keys) each may also have "rotation": [ax, ay, az, degrees].
+std::vector<Key> parse_keys(const Reader& reader, const json& value, const std::string& path, bool turns = false) {
   if (!value.is_array() || value.empty())
     reader.fail(path,
                 "expected a non-empty array of keys {\"frame\": F, \"offset\": [x, y, z]}, got " + describe(value));
@@ -48,7 +51,10 @@ std::vector<Key> parse_keys(const Reader& reader, const json& value, const std::
   for (std::size_t i = 0; i < value.size(); ++i) {
     const std::string key_path = child_path(path, i);
     const json& item = value[i];
-    reader.expect_object(item, key_path, {"frame", "offset"});
+    if (turns)
+      reader.expect_object(item, key_path, {"frame", "offset", "rotation"});
+    else
+      reader.expect_object(item, key_path, {"frame", "offset"});
     Key key;
     const std::string frame_path = child_path(key_path, "frame");
     key.frame = static_cast<int>(reader.integer(reader.member(item, key_path, "frame", frame_range), frame_path, 0,
@@ -58,19 +64,100 @@ std::vector<Key> parse_keys(const Reader& reader, const json& value, const std::
                                   "), got " + std::to_string(key.frame));
     key.offset = bounded_point(reader, reader.member(item, key_path, "offset", "an array of 3 numbers"),
                                child_path(key_path, "offset"), limits::max_key_offset, "metres");
+    if (turns && item.contains("rotation")) {
+      const std::string rotation_path = child_path(key_path, "rotation");
+      const std::string expected = "[ax, ay, az, degrees]: a non-zero axis and an angle in [-1e6, 1e6] degrees";
+      const json& r = item["rotation"];
+      if (!r.is_array() || r.size() != 4) reader.fail(rotation_path, "expected " + expected + ", got " + describe(r));
+      const auto axis = reader.point<3>(json::array({r[0], r[1], r[2]}), rotation_path);
+      key.axis = unit_vector(axis);
+      if (key.axis == std::array<double, 3>{0, 0, 0})
+        reader.fail(rotation_path, "expected " + expected + ", got an axis of length 0");
+      key.degrees = reader.number(r[3], child_path(rotation_path, 3), "an angle in [-1e6, 1e6] degrees",
+                                  [](double x) { return std::abs(x) <= 1e6; });
+    }
     keys.push_back(key);
   }
   return keys;
 }
 
 /// The keys of a pin or collider object, if it has any; `value` has one other key, its kind.
-std::vector<Key> parse_optional_keys(const Reader& reader, const json& value, const std::string& path) {
+std::vector<Key> parse_optional_keys(const Reader& reader, const json& value, const std::string& path,
+                                     bool turns = false) {
   if (!value.contains("keys")) return {};
-  return parse_keys(reader, value["keys"], child_path(path, "keys"));
+  return parse_keys(reader, value["keys"], child_path(path, "keys"), turns);
 }
 
-/// Members of a pin or collider other than `keys`.
-std::size_t kind_count(const json& value) { return value.size() - (value.contains("keys") ? 1 : 0); }
+/// Members of a pin or collider other than `keys` (and a mesh collider's `pivot`).
+std::size_t kind_count(const json& value) {
+  return value.size() - (value.contains("keys") ? 1 : 0) - (value.contains("pivot") ? 1 : 0);
+}
+
+/// A mesh collider's file, or one file per frame where its name has a frame placeholder
+/// ("body.####.obj": the body at the end of each frame; `docs/simulation.md`, *Mesh colliders*). A
+/// path relative to the script's folder, confined to it as a glTF's files are; read with the mesh
+/// reader, every file of a sequence of one topology. `frames`: the script's frames, which a
+/// sequence must cover (frame 0, the start, is optional: without it frame 1's file stands there).
+std::shared_ptr<const ColliderMesh> read_collider_mesh(const Reader& reader, const json& value,
+                                                       const std::string& path, int frames) {
+  if (!value.is_string()) reader.fail(path, "expected the path of a mesh file, got " + describe(value));
+  const std::string& name = value.get_ref<const std::string&>();
+  const std::string folder = std::filesystem::path(reader.file()).parent_path().string();
+  const std::string rule = "a relative path to a mesh in the script's folder or below";
+  const auto confined = [&](const std::string& file_name) {
+    std::string file;
+    switch (confine_file(folder, file_name, file)) {
+      case Confined::not_relative:
+        reader.fail(path, "expected " + rule + ", got \"" + file_name + "\"");
+      case Confined::goes_up:
+        reader.fail(path, "\"" + file_name + "\" goes up with '..' (expected " + rule + ")");
+      case Confined::not_a_file_inside:
+        reader.fail(path, "\"" + file_name + "\" is not a regular file in the script's folder or below");
+      case Confined::ok:
+        break;
+    }
+    return file;
+  };
+  const auto read = [&](const std::string& file) {
+    try {
+      Mesh mesh = read_mesh(file);
+      if (mesh.face_count() > limits::max_collider_faces)
+        reader.fail(path, file + " has " + std::to_string(mesh.face_count()) + " faces, more than " +
+                              std::to_string(limits::max_collider_faces));
+      return mesh;
+    } catch (const Error& e) {
+      if (e.kind() != ErrorKind::input) throw;
+      reader.fail(path, std::string("the collider's mesh cannot be read: ") + e.what());
+    }
+  };
+  auto collider = std::make_shared<ColliderMesh>();
+  collider->file = name;
+  const FramePattern pattern(name);
+  if (!pattern.has_frame_number()) {
+    Mesh mesh = read(confined(name));
+    collider->face_nodes = std::move(mesh.face_nodes);
+    collider->frames.push_back(std::move(mesh.node_pos));
+    return collider;
+  }
+  // A sequence: frame 0 if it is there, then every frame the script steps.
+  if (frames < 1) frames = 1;
+  if (frames + 1 > limits::max_collider_sequence_files)
+    reader.fail(path, "a sequence of more than " + std::to_string(limits::max_collider_sequence_files) + " files");
+  std::string file;
+  const std::string first = pattern.path(0);
+  collider->first_frame = confine_file(folder, first, file) == Confined::ok ? 0 : 1;
+  for (int f = collider->first_frame; f <= frames; ++f) {
+    Mesh mesh = read(confined(pattern.path(f)));
+    if (collider->frames.empty()) {
+      collider->face_nodes = std::move(mesh.face_nodes);
+    } else if (mesh.face_nodes != collider->face_nodes || mesh.node_pos.size() != collider->frames[0].size()) {
+      reader.fail(path, pattern.path(f) + " does not have the faces of " + pattern.path(collider->first_frame) +
+                            " (a sequence keeps one topology: the same vertices and faces in every file)");
+    }
+    collider->frames.push_back(std::move(mesh.node_pos));
+  }
+  return collider;
+}
 
 Pin parse_pin(const Reader& reader, const json& value, const std::string& path) {
   reader.expect_object(value, path, {"box", "nodes", "keys"});
@@ -102,12 +189,23 @@ Pin parse_pin(const Reader& reader, const json& value, const std::string& path) 
   return pin;
 }
 
-Collider parse_collider(const Reader& reader, const json& value, const std::string& path) {
-  reader.expect_object(value, path, {"plane", "sphere", "keys"});
+Collider parse_collider(const Reader& reader, const json& value, const std::string& path, int frames) {
+  reader.expect_object(value, path, {"plane", "sphere", "mesh", "pivot", "keys"});
   if (kind_count(value) != 1)
-    reader.fail(path, "expected exactly one of \"plane\" or \"sphere\", got " + describe(value));
+    reader.fail(path, "expected exactly one of \"plane\", \"sphere\" or \"mesh\", got " + describe(value));
   Collider collider;
+  collider.key_path = path;
   const double extent = limits::max_collider_extent;
+  if (value.contains("pivot") && !value.contains("mesh"))
+    reader.fail(child_path(path, "pivot"), "a pivot is for a mesh collider's rotation only");
+  if (value.contains("mesh")) {
+    collider.kind = Collider::Kind::mesh;
+    collider.mesh = read_collider_mesh(reader, value["mesh"], child_path(path, "mesh"), frames);
+    if (value.contains("pivot"))
+      collider.pivot = bounded_point(reader, value["pivot"], child_path(path, "pivot"), extent, "metres");
+    collider.keys = parse_optional_keys(reader, value, path, true);
+    return collider;
+  }
   if (value.contains("plane")) {
     const std::string plane_path = child_path(path, "plane");
     const json& plane = value["plane"];
@@ -229,6 +327,27 @@ TearingOptions parse_tearing(const Reader& reader, const json& value, const std:
   return tearing;
 }
 
+/// `collision`: {"self": true, "thickness": T, "friction": F, "iterations": N}, each optional
+/// (docs/simulation.md, *Collision*).
+CollisionOptions parse_collision(const Reader& reader, const json& value, const std::string& path) {
+  reader.expect_object(value, path, {"self", "thickness", "friction", "iterations"});
+  CollisionOptions collision;
+  if (value.contains("self")) {
+    if (!value["self"].is_boolean())
+      reader.fail(child_path(path, "self"), "expected true or false, got " + describe(value["self"]));
+    collision.self = value["self"].get<bool>();
+  }
+  collision.thickness = optional_number(reader, value, path, "thickness", 0, limits::max_collision_thickness, "metres",
+                                        collision.thickness);
+  collision.friction = optional_number(reader, value, path, "friction", 0, limits::max_collision_friction,
+                                       "Coulomb coefficient", collision.friction, false);
+  if (value.contains("iterations"))
+    collision.iterations = static_cast<int>(
+        reader.integer(value["iterations"], child_path(path, "iterations"), 1, limits::max_collision_iterations,
+                       "an integer in 1.." + std::to_string(limits::max_collision_iterations)));
+  return collision;
+}
+
 /// A number in [lo, hi], "expected a number in [lo, hi] (unit), got ...".
 double number_in(const Reader& reader, const json& value, const std::string& path, double lo, double hi,
                  const std::string& unit) {
@@ -238,7 +357,7 @@ double number_in(const Reader& reader, const json& value, const std::string& pat
 
 }  // namespace
 
-SimulationOptions parse_simulation(const json& block, const std::string& script_path) {
+SimulationOptions parse_simulation(const json& block, const std::string& script_path, int frames) {
   SimulationOptions options;
   options.source = script_path;
   if (block.is_null()) return options;
@@ -246,7 +365,7 @@ SimulationOptions parse_simulation(const json& block, const std::string& script_
   const std::string root = "simulation";
   reader.expect_object(block, root,
                        {"fps", "substeps", "iterations", "gravity", "damping", "density", "stretch_stiffness",
-                        "bend_stiffness", "chebyshev", "pins", "colliders", "tearing"});
+                        "bend_stiffness", "chebyshev", "pins", "colliders", "collision", "tearing"});
   if (block.contains("fps"))
     options.fps = number_in(reader, block["fps"], child_path(root, "fps"), limits::min_fps, limits::max_fps,
                             "frames per second");
@@ -312,8 +431,10 @@ SimulationOptions parse_simulation(const json& block, const std::string& script_
     const json& colliders = block["colliders"];
     if (!colliders.is_array()) reader.fail(path, "expected an array of colliders, got " + describe(colliders));
     for (std::size_t i = 0; i < colliders.size(); ++i)
-      options.colliders.push_back(parse_collider(reader, colliders[i], child_path(path, i)));
+      options.colliders.push_back(parse_collider(reader, colliders[i], child_path(path, i), frames));
   }
+  if (block.contains("collision"))
+    options.collision = parse_collision(reader, block["collision"], child_path(root, "collision"));
   if (block.contains("tearing")) options.tearing = parse_tearing(reader, block["tearing"], child_path(root, "tearing"));
   return options;
 }

@@ -23,6 +23,7 @@
 #include "sim/pd_solver.h"
 #include "sim/pd_solver_device.h"
 #include "sim/pd_substep.h"
+#include "sim/substep_records.h"
 #include "tear/error.h"
 #include "tear/simulation_options.h"
 #include "topology/device_topology.h"
@@ -95,7 +96,7 @@ class PdSolverOn final : public PdSolver::Impl {
     node_pred_.resize(3 * static_cast<std::size_t>(node_count));
     for (auto& iter : node_iter_) iter.resize(3 * static_cast<std::size_t>(node_count));
     for (const Pin& p : options.pins) keyed_ = keyed_ || !p.keys.empty();
-    for (const Collider& c : options.colliders) keyed_ = keyed_ || !c.keys.empty();
+    for (const Collider& c : options.colliders) keyed_ = keyed_ || (!c.keys.empty() && c.kind != Collider::Kind::mesh);
     // Without keys the pins' and colliders' records never change; with keys they are those of the
     // first substep until a frame is stepped.
     std::vector<kernels::PdPinMotion> pins;
@@ -105,40 +106,10 @@ class PdSolverOn final : public PdSolver::Impl {
     assign_from_host(colliders_, colliders);
   }
 
-  /// The pins' and colliders' records of substep `s` (0-based) of frame `frame` (1-based), appended:
-  /// each keyed one where its keys put it at the substep's end, moving by the change of its offset
-  /// over the substep. The substep spans times (frame − 1 + s/S, frame − 1 + (s+1)/S), in frames.
+  /// The pins' and colliders' records of substep `s` of frame `frame` (`substep_records`).
   void substep_motion(int frame, int s, std::vector<kernels::PdPinMotion>& pins,
                       std::vector<kernels::PdCollider>& colliders) const {
-    const double start = substep_end_time(frame, s - 1, options_.substeps);
-    const double end = substep_end_time(frame, s, options_.substeps);
-    const double inv_h = 1.0 / options_.step_seconds();
-    // The offset at the substep's end; its change over the substep, as a velocity.
-    const auto motion = [&](const std::vector<Key>& keys, float* velocity) {
-      const std::array<double, 3> a = key_offset(keys, start), b = key_offset(keys, end);
-      for (int i = 0; i < 3; ++i) velocity[i] = static_cast<float>((b[i] - a[i]) * inv_h);
-      return b;
-    };
-    for (const Pin& p : options_.pins) {
-      kernels::PdPinMotion k{};
-      k.keyed = p.keys.empty() ? 0 : 1;
-      const std::array<double, 3> offset = motion(p.keys, k.velocity);
-      for (int a = 0; a < 3; ++a) k.offset[a] = static_cast<float>(offset[a]);
-      pins.push_back(k);
-    }
-    for (const Collider& c : options_.colliders) {
-      kernels::PdCollider k{};
-      k.kind = c.kind == Collider::Kind::plane ? 0 : 1;
-      const double len = std::sqrt(c.normal[0] * c.normal[0] + c.normal[1] * c.normal[1] + c.normal[2] * c.normal[2]);
-      const std::array<double, 3> offset = motion(c.keys, k.velocity);
-      for (int a = 0; a < 3; ++a) {
-        // Without keys the point as given, not point + 0 (which turns −0 into +0).
-        k.point[a] = static_cast<float>(c.keys.empty() ? c.point[a] : c.point[a] + offset[a]);
-        k.normal[a] = static_cast<float>(len > 0 ? c.normal[a] / len : 0.0);
-      }
-      k.radius = static_cast<float>(c.radius);
-      colliders.push_back(k);
-    }
+    substep_records(options_, frame, s, pins, colliders);
   }
 
  public:

@@ -1,0 +1,706 @@
+// tear kernels: collision of the cloth with itself and with mesh colliders (docs/simulation.md,
+// *Collision*), run after the solver's iterations of a substep by cloth/collision_job.h.
+//
+// The vertices are the cloth's nodes [0, node_count) followed by the mesh colliders' vertices
+// (bodies), each with its position at the substep's start (x0) and end (x1). Pairs are node–face
+// (a vertex and a triangle) and edge–edge. A pair is in contact when, at the end, the vertex (or
+// edge) is within `thickness` of the triangle (or other edge) on the side it was on at the start,
+// or when it crossed it during the substep (found by the time the four points are coplanar: the
+// motion, not only the end positions). Each contact moves its movable vertices (free cloth nodes:
+// pinned nodes and bodies do not move) apart along the triangle's (or the edges') normal, weighted
+// as a position constraint, with Coulomb friction on their relative motion; each vertex averages
+// the moves of its contacts, summed in the order of the pairs (a gather: no atomics).
+//
+// Broad phase: vertices and cloth edges, boxed over the substep's motion, are entered into a
+// uniform grid, each in the cell of its box's lowest corner (sorted by cell); each triangle and
+// edge looks up the cells its box covers and one more below. Each pair is found once.
+//
+// Example: a node 1 mm above a face (thickness 5 mm), both moving down together, is moved up by
+// 4 mm where the face's nodes are pinned, or up 2 mm with the face down 2 mm where all are free
+// (barycentric weights at the face's centre: 1/3 each, so W = 1 + 3·(1/9)).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "hd.h"
+#include "pd_math.h"
+#include "pd_step.h"
+
+namespace tear::kernels {
+
+/// The vertices of the collision pass: cloth nodes, then bodies' vertices.
+struct CollisionVertices {
+  const float* cloth_x0;  ///< [3 * node_count] the nodes at the substep's start
+  const float* cloth_x1;  ///< [3 * node_count] the nodes now (the solver's end, moved by the contacts)
+  const float* cloth_rest;
+  const std::uint8_t* cloth_pinned;
+  const float* body_x0;  ///< [3 * body vertices] at the substep's start
+  const float* body_x1;  ///< ... at its end
+  index_t node_count, vertex_count;
+
+  TEAR_HD bool is_cloth(index_t v) const { return v < node_count; }
+  TEAR_HD Vec3f x0(index_t v) const {
+    return v < node_count ? load3<float>(cloth_x0, v) : load3<float>(body_x0, v - node_count);
+  }
+  TEAR_HD Vec3f x1(index_t v) const {
+    return v < node_count ? load3<float>(cloth_x1, v) : load3<float>(body_x1, v - node_count);
+  }
+  /// Moved by contacts: free cloth nodes only.
+  TEAR_HD float w(index_t v) const { return v < node_count && cloth_pinned[v] == 0 ? 1.0f : 0.0f; }
+};
+
+/// Triangles: the cloth's faces, then the bodies' (their vertices numbered among the bodies', so
+/// `node` adds the cloth's node count).
+struct CollisionFaces {
+  const index_t* cloth;  ///< [3 * cloth_count]
+  const index_t* body;   ///< [3 * (count - cloth_count)]
+  index_t cloth_count, count, node_count;
+  TEAR_HD index_t node(index_t f, int k) const {
+    return f < cloth_count ? cloth[3 * f + k] : node_count + body[3 * (f - cloth_count) + k];
+  }
+};
+
+/// Edges: the cloth's, then the bodies'.
+struct CollisionEdges {
+  const index_t* cloth;  ///< [2 * cloth_count]
+  const index_t* body;   ///< [2 * (count - cloth_count)]
+  index_t cloth_count, count, node_count;
+  TEAR_HD index_t node(index_t e, int k) const {
+    return e < cloth_count ? cloth[2 * e + k] : node_count + body[2 * (e - cloth_count) + k];
+  }
+};
+
+TEAR_HD inline float min_of(float a, float b) { return b < a ? b : a; }
+TEAR_HD inline float max_of(float a, float b) { return b > a ? b : a; }
+
+/// An axis-aligned box.
+struct Box {
+  Vec3f lo, hi;
+  TEAR_HD void add(Vec3f p) {
+    lo = {min_of(lo.x, p.x), min_of(lo.y, p.y), min_of(lo.z, p.z)};
+    hi = {max_of(hi.x, p.x), max_of(hi.y, p.y), max_of(hi.z, p.z)};
+  }
+  TEAR_HD void grow(float r) {
+    lo = {lo.x - r, lo.y - r, lo.z - r};
+    hi = {hi.x + r, hi.y + r, hi.z + r};
+  }
+  TEAR_HD bool overlaps(const Box& b) const {
+    return lo.x <= b.hi.x && b.lo.x <= hi.x && lo.y <= b.hi.y && b.lo.y <= hi.y && lo.z <= b.hi.z && b.lo.z <= hi.z;
+  }
+  TEAR_HD static Box of(Vec3f p) { return {p, p}; }
+};
+
+/// The uniform grid of the broad phase: cells of side 1 / `inv_cell` from `origin`, at most 2²¹ a
+/// side. An item is entered once, in the cell of its box's lowest corner, when its box is no wider
+/// than a cell; a wider one is entered under `everywhere`, which every query looks at.
+struct CollisionGrid {
+  Vec3f origin;
+  float inv_cell;
+  static constexpr std::int32_t side = 1 << 21;
+  static constexpr std::uint64_t everywhere = ~std::uint64_t(0);
+
+  TEAR_HD std::int32_t coord(float x, float o) const {
+    const float c = floorf((x - o) * inv_cell);
+    return c < 0.0f ? 0 : c >= static_cast<float>(side - 1) ? side - 1 : static_cast<std::int32_t>(c);
+  }
+  TEAR_HD void cells(const Box& b, std::int32_t lo[3], std::int32_t hi[3]) const {
+    lo[0] = coord(b.lo.x, origin.x), lo[1] = coord(b.lo.y, origin.y), lo[2] = coord(b.lo.z, origin.z);
+    hi[0] = coord(b.hi.x, origin.x), hi[1] = coord(b.hi.y, origin.y), hi[2] = coord(b.hi.z, origin.z);
+  }
+  TEAR_HD static std::uint64_t key(std::int32_t i, std::int32_t j, std::int32_t k) {
+    return static_cast<std::uint64_t>(i) | static_cast<std::uint64_t>(j) << 21 | static_cast<std::uint64_t>(k) << 42;
+  }
+  /// The key an item of box `b` is entered under.
+  TEAR_HD std::uint64_t entry_key(const Box& b) const {
+    const Vec3f extent = b.hi - b.lo;
+    if (!(max_of(extent.x, max_of(extent.y, extent.z)) * inv_cell <= 1.0f)) return everywhere;
+    std::int32_t lo[3], hi[3];
+    cells(b, lo, hi);
+    // Clamped at the grid's edge, a box may end more than a cell from its lowest cell.
+    for (int a = 0; a < 3; ++a)
+      if (hi[a] - lo[a] > 1) return everywhere;
+    return key(lo[0], lo[1], lo[2]);
+  }
+};
+
+/// The box of vertex v over the substep's motion.
+TEAR_HD inline Box vertex_box(const CollisionVertices& x, index_t v) {
+  Box b = Box::of(x.x0(v));
+  b.add(x.x1(v));
+  return b;
+}
+TEAR_HD inline Box face_box(const CollisionVertices& x, const CollisionFaces& f, index_t i) {
+  Box b = vertex_box(x, f.node(i, 0));
+  b.add(x.x0(f.node(i, 1))), b.add(x.x1(f.node(i, 1)));
+  b.add(x.x0(f.node(i, 2))), b.add(x.x1(f.node(i, 2)));
+  return b;
+}
+TEAR_HD inline Box edge_box(const CollisionVertices& x, const CollisionEdges& e, index_t i) {
+  Box b = vertex_box(x, e.node(i, 0));
+  b.add(x.x0(e.node(i, 1))), b.add(x.x1(e.node(i, 1)));
+  return b;
+}
+
+/// The entries of the grid: each vertex (or cloth edge), its box grown by `margin`, under its key.
+struct EnterItems {
+  CollisionVertices x;
+  CollisionEdges edges;
+  CollisionGrid grid;
+  float margin;
+  bool of_edges;  ///< entries of cloth edges (else of vertices)
+  std::uint64_t* keys;
+  index_t* items;
+  TEAR_HD void operator()(index_t i) const {
+    Box b = of_edges ? edge_box(x, edges, i) : vertex_box(x, i);
+    b.grow(margin);
+    keys[i] = grid.entry_key(b);
+    items[i] = i;
+  }
+};
+
+/// Two kinds of pairs: a vertex and a face (v = {p, a, b, c}) or two edges (v = {p, q, r, s}).
+struct CollisionPair {
+  index_t v[4];
+  std::int32_t edge_edge;
+};
+
+/// A sorted grid's entries: keys ascending (`everywhere` last), each with its item.
+struct GridEntries {
+  const std::uint64_t* keys;
+  const index_t* items;
+  index_t count;
+  index_t everywhere_begin;  ///< the first entry under `everywhere`
+  /// The first entry of `key` (or where it would be) among the cell entries.
+  TEAR_HD index_t lower_bound(std::uint64_t key) const {
+    index_t lo = 0, hi = everywhere_begin;
+    while (lo < hi) {
+      const index_t mid = lo + (hi - lo) / 2;
+      if (keys[mid] < key)
+        lo = mid + 1;
+      else
+        hi = mid;
+    }
+    return lo;
+  }
+};
+
+// ---- Geometry ---------------------------------------------------------------------------------
+
+/// Barycentric coordinates of the closest point of triangle (a, b, c) to p (Ericson, Real-Time
+/// Collision Detection, 5.1.5).
+TEAR_HD inline Vec3f closest_on_triangle(Vec3f p, Vec3f a, Vec3f b, Vec3f c) {
+  const Vec3f ab = b - a, ac = c - a, ap = p - a;
+  const float d1 = dot(ab, ap), d2 = dot(ac, ap);
+  if (d1 <= 0.0f && d2 <= 0.0f) return {1, 0, 0};
+  const Vec3f bp = p - b;
+  const float d3 = dot(ab, bp), d4 = dot(ac, bp);
+  if (d3 >= 0.0f && d4 <= d3) return {0, 1, 0};
+  const float vc = d1 * d4 - d3 * d2;
+  if (vc <= 0.0f && d1 >= 0.0f && d3 <= 0.0f) {
+    const float v = d1 / (d1 - d3);
+    return {1 - v, v, 0};
+  }
+  const Vec3f cp = p - c;
+  const float d5 = dot(ab, cp), d6 = dot(ac, cp);
+  if (d6 >= 0.0f && d5 <= d6) return {0, 0, 1};
+  const float vb = d5 * d2 - d1 * d6;
+  if (vb <= 0.0f && d2 >= 0.0f && d6 <= 0.0f) {
+    const float w = d2 / (d2 - d6);
+    return {1 - w, 0, w};
+  }
+  const float va = d3 * d6 - d5 * d4;
+  if (va <= 0.0f && (d4 - d3) >= 0.0f && (d5 - d6) >= 0.0f) {
+    const float w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+    return {0, 1 - w, w};
+  }
+  const float denom = 1.0f / (va + vb + vc);
+  const float v = vb * denom, w = vc * denom;
+  return {1 - v - w, v, w};
+}
+
+/// Parameters (s, t) in [0, 1] of the closest points of segments p + s(q − p) and r + t(u − r)
+/// (Ericson 5.1.9).
+TEAR_HD inline void closest_on_segments(Vec3f p, Vec3f q, Vec3f r, Vec3f u, float& s, float& t) {
+  const Vec3f d1 = q - p, d2 = u - r, e = p - r;
+  const float a = dot(d1, d1), f = dot(d2, d2), c = dot(d1, e), b = dot(d1, d2), g = dot(d2, e);
+  const auto clamp01 = [](float x) { return x < 0.0f ? 0.0f : x > 1.0f ? 1.0f : x; };
+  if (a <= 1e-30f && f <= 1e-30f) {
+    s = t = 0;
+    return;
+  }
+  if (a <= 1e-30f) {
+    s = 0, t = clamp01(g / f);
+    return;
+  }
+  if (f <= 1e-30f) {
+    t = 0, s = clamp01(-c / a);
+    return;
+  }
+  const float denom = a * f - b * b;
+  s = denom > 0.0f ? clamp01((b * g - c * f) / denom) : 0.0f;
+  t = (b * s + g) / f;
+  if (t < 0.0f) {
+    t = 0, s = clamp01(-c / a);
+  } else if (t > 1.0f) {
+    t = 1, s = clamp01((b - c) / a);
+  }
+}
+
+/// The times in [0, 1] at which four points moving linearly (x0 → x1) are coplanar, earliest first:
+/// the roots of the cubic det(b − a, c − a, p − a), found by bisection between its turning points.
+/// Returns how many (at most 3) are in `t`.
+TEAR_HD inline int coplanar_times(const Vec3f x0[4], const Vec3f x1[4], double t[3]) {
+  // Relative to the first point: B, C, P and their motions.
+  Vec3d B, C, P, dB, dC, dP;
+  const auto d = [](Vec3f v) { return Vec3d{v.x, v.y, v.z}; };
+  B = d(x0[1]) - d(x0[0]), C = d(x0[2]) - d(x0[0]), P = d(x0[3]) - d(x0[0]);
+  dB = (d(x1[1]) - d(x1[0])) - B, dC = (d(x1[2]) - d(x1[0])) - C, dP = (d(x1[3]) - d(x1[0])) - P;
+  const Vec3d bc = cross(B, C), mid = cross(B, dC) + cross(dB, C), dd = cross(dB, dC);
+  const double c0 = dot(bc, P), c1 = dot(bc, dP) + dot(mid, P), c2 = dot(mid, dP) + dot(dd, P), c3 = dot(dd, dP);
+  const auto f = [&](double x) { return ((c3 * x + c2) * x + c1) * x + c0; };
+  // Turning points of the cubic in (0, 1) split it into monotone pieces.
+  double cuts[4] = {0, 0, 0, 1};
+  int n = 1;
+  const double qa = 3 * c3, qb = 2 * c2, qc = c1;
+  if (fabs(qa) > 1e-300) {
+    const double disc = qb * qb - 4 * qa * qc;
+    if (disc > 0) {
+      const double r = sqrt(disc);
+      double r1 = (-qb - r) / (2 * qa), r2 = (-qb + r) / (2 * qa);
+      if (r1 > r2) {
+        const double tmp = r1;
+        r1 = r2, r2 = tmp;
+      }
+      if (r1 > 0 && r1 < 1) cuts[n++] = r1;
+      if (r2 > 0 && r2 < 1) cuts[n++] = r2;
+    }
+  } else if (fabs(qb) > 1e-300) {
+    const double r = -qc / qb;
+    if (r > 0 && r < 1) cuts[n++] = r;
+  }
+  cuts[n] = 1;
+  int found = 0;
+  for (int i = 0; i < n; ++i) {
+    double lo = cuts[i], hi = cuts[i + 1];
+    double flo = f(lo), fhi = f(hi);
+    if (flo == 0) {
+      if (found == 0 || t[found - 1] != lo) t[found++] = lo;
+      continue;
+    }
+    if (flo * fhi > 0) continue;
+    for (int k = 0; k < 40; ++k) {
+      const double m = 0.5 * (lo + hi), fm = f(m);
+      if ((fm < 0) == (flo < 0)) {
+        lo = m, flo = fm;
+      } else {
+        hi = m;
+      }
+    }
+    t[found++] = hi;
+  }
+  return found;
+}
+
+TEAR_HD inline Vec3f lerp(Vec3f a, Vec3f b, float t) { return a + t * (b - a); }
+
+/// The contact of pair `pair` at the vertices' current end positions: whether there is one, and
+/// the weights (`bary`, signed: the second side's negative) and unit normal (pointing from the
+/// second side to the first) it pushes along, and its violation C (< 0: the first side must move
+/// −C further along the normal relative to the second).
+struct Contact {
+  bool active = false;
+  float bary[4];
+  Vec3f normal;
+  float violation;
+};
+
+/// The pass's geometry of one pair. `strict`: crossings only (no thickness), for the final check.
+struct CollisionGeometry {
+  CollisionVertices x;
+  float thickness;
+  /// In-plane slack of a crossing: how far outside the triangle (or past an edge's end) a crossing
+  /// still counts, relative to the thickness.
+  static constexpr float crossing_slack = 0.1f;
+
+  /// Node–face: p against triangle (a, b, c).
+  TEAR_HD Contact node_face(const index_t* v, bool strict) const {
+    Contact k;
+    Vec3f s0[4], s1[4];
+    for (int i = 0; i < 4; ++i) s0[i] = x.x0(v[i]), s1[i] = x.x1(v[i]);
+    // Order for the coplanarity test: a, b, c, p.
+    const Vec3f a0 = s0[1], b0 = s0[2], c0 = s0[3], p0 = s0[0];
+    const Vec3f a1 = s1[1], b1 = s1[2], c1 = s1[3], p1 = s1[0];
+    const Vec3f n0 = cross(b0 - a0, c0 - a0), n1raw = cross(b1 - a1, c1 - a1);
+    const float n1len = norm(n1raw);
+    if (!(n1len > 0.0f)) return k;
+    const Vec3f n1 = (1.0f / n1len) * n1raw;
+    const float side0 = dot(p0 - a0, n0);
+    const float d1 = dot(p1 - a1, n1);
+    // The side at the start; on the plane, the side it is on now.
+    const float s = side0 > 0.0f ? 1.0f : side0 < 0.0f ? -1.0f : (d1 >= 0.0f ? 1.0f : -1.0f);
+    const float sd1 = s * d1;
+    Vec3f w;
+    if (sd1 >= 0.0f) {
+      if (strict || !(sd1 < thickness)) return k;
+      // Close on its own side: the projection must fall inside the triangle.
+      w = closest_on_triangle(p1, a1, b1, c1);
+      const Vec3f q = w.x * a1 + (w.y * b1 + w.z * c1);
+      const Vec3f along = p1 - q;
+      const float in_plane = norm(along - dot(along, n1) * n1);
+      if (in_plane > crossing_slack * thickness) return k;
+    } else {
+      // On the other side: a contact only if it went through the triangle during the substep.
+      const Vec3f q0[4] = {a0, b0, c0, p0}, q1[4] = {a1, b1, c1, p1};
+      double times[3];
+      const int count = coplanar_times(q0, q1, times);
+      bool through = false;
+      for (int i = 0; i < count && !through; ++i) {
+        const float t = static_cast<float>(times[i]);
+        const Vec3f at = lerp(a0, a1, t), bt = lerp(b0, b1, t), ct = lerp(c0, c1, t), pt = lerp(p0, p1, t);
+        w = closest_on_triangle(pt, at, bt, ct);
+        const Vec3f q = w.x * at + (w.y * bt + w.z * ct);
+        through = norm(pt - q) <= crossing_slack * thickness;
+      }
+      if (!through) return k;
+    }
+    k.active = true;
+    k.bary[0] = 1, k.bary[1] = -w.x, k.bary[2] = -w.y, k.bary[3] = -w.z;
+    k.normal = s * n1;
+    k.violation = dot(p1 - (w.x * a1 + (w.y * b1 + w.z * c1)), k.normal) - (strict ? 0.0f : thickness);
+    return k;
+  }
+
+  /// Edge–edge: (p, q) against (r, u).
+  TEAR_HD Contact edge_edge(const index_t* v, bool strict) const {
+    Contact k;
+    Vec3f s0[4], s1[4];
+    for (int i = 0; i < 4; ++i) s0[i] = x.x0(v[i]), s1[i] = x.x1(v[i]);
+    const Vec3f e1 = s1[1] - s1[0], e2 = s1[3] - s1[2];
+    const Vec3f nraw = cross(e1, e2);
+    const float nlen = norm(nraw);
+    // Parallel edges: their ends' node–face pairs hold them.
+    if (!(nlen > 1e-6f * norm(e1) * norm(e2))) return k;
+    const Vec3f n1 = (1.0f / nlen) * nraw;
+    float a, b;
+    closest_on_segments(s1[0], s1[1], s1[2], s1[3], a, b);
+    const Vec3f n0 = cross(s0[1] - s0[0], s0[3] - s0[2]);
+    const float g0 = dot(lerp(s0[2], s0[3], b) - lerp(s0[0], s0[1], a), n0);
+    const float g1 = dot(lerp(s1[2], s1[3], b) - lerp(s1[0], s1[1], a), n1);
+    // σ: the side (r, u) was on relative to (p, q) at the start.
+    const float sigma = g0 > 0.0f ? 1.0f : g0 < 0.0f ? -1.0f : (g1 >= 0.0f ? 1.0f : -1.0f);
+    const float sg1 = sigma * g1;
+    if (sg1 >= 0.0f) {
+      if (strict || !(sg1 < thickness)) return k;
+      // Close: the closest points inside both edges (at an end, a node–face pair holds it).
+      if (a <= 0.0f || a >= 1.0f || b <= 0.0f || b >= 1.0f) return k;
+      const Vec3f gap = lerp(s1[2], s1[3], b) - lerp(s1[0], s1[1], a);
+      if (norm(gap - dot(gap, n1) * n1) > crossing_slack * thickness) return k;
+    } else {
+      // Crossed: the edges met during the substep.
+      const Vec3f q0[4] = {s0[0], s0[1], s0[2], s0[3]}, q1[4] = {s1[0], s1[1], s1[2], s1[3]};
+      double times[3];
+      const int count = coplanar_times(q0, q1, times);
+      bool met = false;
+      for (int i = 0; i < count && !met; ++i) {
+        const float t = static_cast<float>(times[i]);
+        const Vec3f pt = lerp(s0[0], s1[0], t), qt = lerp(s0[1], s1[1], t), rt = lerp(s0[2], s1[2], t),
+                    ut = lerp(s0[3], s1[3], t);
+        float at, bt;
+        closest_on_segments(pt, qt, rt, ut, at, bt);
+        met = norm(lerp(rt, ut, bt) - lerp(pt, qt, at)) <= crossing_slack * thickness;
+        if (met) a = at, b = bt;
+      }
+      if (!met) return k;
+    }
+    k.active = true;
+    // The first side (p, q) is pushed along −normal... expressed as: normal from (r, u) to (p, q).
+    k.normal = (-sigma) * n1;
+    k.bary[0] = 1 - a, k.bary[1] = a, k.bary[2] = -(1 - b), k.bary[3] = -b;
+    const Vec3f first = lerp(s1[0], s1[1], a), second = lerp(s1[2], s1[3], b);
+    k.violation = dot(first - second, k.normal) - (strict ? 0.0f : thickness);
+    return k;
+  }
+
+  TEAR_HD Contact contact(const CollisionPair& pair, bool strict) const {
+    return pair.edge_edge ? edge_edge(pair.v, strict) : node_face(pair.v, strict);
+  }
+
+  /// Whether the pair meets at some time of the substep (the continuous test alone, whatever the
+  /// sides): at a time the four points are coplanar, the node lies in the triangle (or the edges
+  /// cross), within the crossing slack.
+  TEAR_HD bool meets(const CollisionPair& pair) const {
+    Vec3f s0[4], s1[4];
+    for (int i = 0; i < 4; ++i) s0[i] = x.x0(pair.v[i]), s1[i] = x.x1(pair.v[i]);
+    // Coplanarity order: for a node and a face, the face's nodes first.
+    const Vec3f q0[4] = {s0[pair.edge_edge ? 0 : 1], s0[pair.edge_edge ? 1 : 2], s0[pair.edge_edge ? 2 : 3],
+                         s0[pair.edge_edge ? 3 : 0]};
+    const Vec3f q1[4] = {s1[pair.edge_edge ? 0 : 1], s1[pair.edge_edge ? 1 : 2], s1[pair.edge_edge ? 2 : 3],
+                         s1[pair.edge_edge ? 3 : 0]};
+    double times[3];
+    const int count = coplanar_times(q0, q1, times);
+    const float slack = crossing_slack * thickness;
+    for (int i = 0; i < count; ++i) {
+      const float t = static_cast<float>(times[i]);
+      Vec3f q[4];
+      for (int j = 0; j < 4; ++j) q[j] = lerp(q0[j], q1[j], t);
+      if (pair.edge_edge) {
+        float a, b;
+        closest_on_segments(q[0], q[1], q[2], q[3], a, b);
+        if (norm(lerp(q[2], q[3], b) - lerp(q[0], q[1], a)) <= slack) return true;
+      } else {
+        const Vec3f w = closest_on_triangle(q[3], q[0], q[1], q[2]);
+        if (norm(q[3] - (w.x * q[0] + (w.y * q[1] + w.z * q[2]))) <= slack) return true;
+      }
+    }
+    return false;
+  }
+};
+
+/// Each pair's moves of its four vertices (`moves` [4 * pairs]), zero where it has no contact: the
+/// constraint normal·(Σ bᵢ xᵢ) ≥ thickness projected with weights wᵢ, plus friction that removes
+/// up to `friction` × the normal move of the contact's tangential motion over the substep.
+struct resolve_contacts {
+  CollisionGeometry geometry;
+  const CollisionPair* pairs;
+  float friction;
+  Vec3f* moves;
+  TEAR_HD void operator()(index_t i) const {
+    const CollisionPair& pair = pairs[i];
+    const Contact k = geometry.contact(pair, false);
+    for (int j = 0; j < 4; ++j) moves[4 * i + j] = Vec3f{0, 0, 0};
+    if (!k.active || !(k.violation < 0.0f)) return;
+    const CollisionVertices& x = geometry.x;
+    float wsum = 0;
+    float w[4];
+    for (int j = 0; j < 4; ++j) {
+      w[j] = x.w(pair.v[j]);
+      wsum += w[j] * k.bary[j] * k.bary[j];
+    }
+    if (!(wsum > 0.0f)) return;
+    const float lambda = -k.violation / wsum;
+    // The contact points' relative motion over the substep, its part across the normal.
+    Vec3f rel{0, 0, 0};
+    for (int j = 0; j < 4; ++j) rel = rel + k.bary[j] * (x.x1(pair.v[j]) - x.x0(pair.v[j]));
+    const Vec3f tangent = rel - dot(rel, k.normal) * k.normal;
+    const float slide = norm(tangent);
+    Vec3f stop{0, 0, 0};
+    if (friction > 0.0f && slide > 0.0f) {
+      const float keep = fminf(1.0f, friction * -k.violation / slide);
+      stop = (-keep / wsum) * tangent;
+    }
+    for (int j = 0; j < 4; ++j)
+      if (w[j] > 0.0f) moves[4 * i + j] = (w[j] * k.bary[j]) * (lambda * k.normal + stop);
+  }
+};
+
+/// Each cloth node's moves from its contacts (`slot_offset`/`slots`: its entries of `moves`, in
+/// order), averaged over those that move it, added to its end position; then out of the plane and
+/// sphere colliders again, which are never given way to.
+struct apply_contact_moves {
+  const index_t* slot_offset;  ///< [node_count + 1]
+  const index_t* slots;
+  const Vec3f* moves;
+  const PdCollider* colliders;
+  index_t collider_count;
+  float* node_x1;
+  TEAR_HD void operator()(index_t n) const {
+    Vec3f sum{0, 0, 0};
+    int count = 0;
+    for (index_t i = slot_offset[n]; i < slot_offset[n + 1]; ++i) {
+      const Vec3f m = moves[slots[i]];
+      if (m.x != 0.0f || m.y != 0.0f || m.z != 0.0f) {
+        sum = sum + m;
+        ++count;
+      }
+    }
+    if (count == 0) return;
+    Vec3f x = load3<float>(node_x1, n) + (1.0f / static_cast<float>(count)) * sum;
+    Vec3f unused{0, 0, 0};
+    for (index_t i = 0; i < collider_count; ++i) collide(colliders[i], x, unused);
+    store3(node_x1, n, x);
+  }
+};
+
+/// The entries of the node → moves CSR: slot 4i + j is keyed by pair i's vertex j when that is a
+/// free cloth node (else it has no key).
+struct ContactSlots {
+  const CollisionPair* pairs;
+  CollisionVertices x;
+  TEAR_HD index_t key(index_t slot) const {
+    const index_t v = pairs[slot / 4].v[slot % 4];
+    return x.w(v) > 0.0f ? v : -1;
+  }
+  TEAR_HD index_t value(index_t slot) const { return slot; }
+};
+
+/// 1 where pair i meets during the substep (`meets`), for the final check.
+struct crossing_of {
+  CollisionGeometry geometry;
+  const CollisionPair* pairs;
+  TEAR_HD index_t operator()(index_t i) const { return geometry.meets(pairs[i]) ? 1 : 0; }
+};
+
+/// After the contacts: each free node's velocity gains its contacts' move over the substep, as the
+/// solver's velocity update (damping included) would have counted it.
+struct add_contact_velocity {
+  const float* solved;  ///< the solver's end positions
+  const float* node_x1;
+  float scale;  ///< (1 − damping)^h / h
+  float* node_vel;
+  TEAR_HD void operator()(index_t n) const {
+    store3(node_vel, n, load3<float>(node_vel, n) + scale * (load3<float>(node_x1, n) - load3<float>(solved, n)));
+  }
+};
+
+/// Nodes marked `held` go back to where they started the substep.
+struct hold_nodes {
+  const std::uint8_t* held;
+  const float* node_x0;
+  float* node_x1;
+  TEAR_HD void operator()(index_t n) const {
+    if (held[n]) store3(node_x1, n, load3<float>(node_x0, n));
+  }
+};
+
+/// Marks (`held`) the free cloth nodes of the pairs that still cross: they go back to where they
+/// started the substep.
+struct hold_crossing {
+  CollisionGeometry geometry;
+  const CollisionPair* pairs;
+  std::uint8_t* held;
+  TEAR_HD void operator()(index_t i) const {
+    if (!geometry.meets(pairs[i])) return;
+    for (int j = 0; j < 4; ++j) {
+      const index_t v = pairs[i].v[j];
+      if (geometry.x.w(v) > 0.0f) held[v] = 1;  // every writer writes 1: no race on the value
+    }
+  }
+};
+
+/// Distance between point p and triangle (a, b, c).
+TEAR_HD inline float point_triangle_distance(Vec3f p, Vec3f a, Vec3f b, Vec3f c) {
+  const Vec3f w = closest_on_triangle(p, a, b, c);
+  return norm(p - (w.x * a + (w.y * b + w.z * c)));
+}
+
+/// The candidate pairs: each face looks up the vertices entered near it, each edge the cloth edges
+/// entered near it; counted per query (`offset` null), then written at the scanned offsets. Queries
+/// are the faces [0, faces.count), then the edges. A pair is kept when the boxes overlap, it
+/// shares no vertex, has a vertex that moves, and is cloth against a body or
+/// (with `self`) cloth against cloth not within `rest_gap` of each other in the rest shape (the two
+/// sides of a tear, neighbours in the fabric).
+struct find_pairs {
+  CollisionVertices x;
+  CollisionFaces faces;
+  CollisionEdges edges;
+  CollisionGrid grid;
+  GridEntries vertex_entries, edge_entries;
+  float margin;
+  float rest_gap;
+  bool self;
+  /// Cells a query walks one by one at most; a bigger box scans the entries instead.
+  static constexpr std::int64_t max_walk = 125;
+  const index_t* offset;  ///< null: count into `count`
+  index_t* count;
+  CollisionPair* pairs;
+
+  TEAR_HD Box entry_box(index_t item, bool of_edges) const {
+    Box b = of_edges ? edge_box(x, edges, item) : vertex_box(x, item);
+    b.grow(margin);
+    return b;
+  }
+  TEAR_HD Vec3f rest(index_t v) const { return load3<float>(x.cloth_rest, v); }
+
+  /// Whether face f and vertex p make a pair (v = {p, a, b, c}).
+  TEAR_HD bool node_face(index_t f, index_t p, index_t v[4]) const {
+    v[0] = p;
+    for (int k = 0; k < 3; ++k) {
+      v[k + 1] = faces.node(f, k);
+      if (v[k + 1] == p) return false;
+    }
+    const bool cloth_face = f < faces.cloth_count, cloth_node = x.is_cloth(p);
+    if (!cloth_face && !cloth_node) return false;
+    if (cloth_face && cloth_node) {
+      if (!self) return false;
+      if (point_triangle_distance(rest(p), rest(v[1]), rest(v[2]), rest(v[3])) < rest_gap) return false;
+    }
+    return x.w(v[0]) + x.w(v[1]) + x.w(v[2]) + x.w(v[3]) > 0.0f;
+  }
+  /// Whether edge q and cloth edge e make a pair (v = {q's, e's}).
+  TEAR_HD bool edge_edge(index_t q, index_t e, index_t v[4]) const {
+    const bool cloth_query = q < edges.cloth_count;
+    if (cloth_query && (!self || q >= e)) return false;
+    v[0] = edges.node(q, 0), v[1] = edges.node(q, 1), v[2] = edges.node(e, 0), v[3] = edges.node(e, 1);
+    if (v[0] == v[2] || v[0] == v[3] || v[1] == v[2] || v[1] == v[3]) return false;
+    if (cloth_query) {
+      float s, t;
+      const Vec3f a = rest(v[0]), b = rest(v[1]), c = rest(v[2]), d = rest(v[3]);
+      closest_on_segments(a, b, c, d, s, t);
+      if (norm(lerp(c, d, t) - lerp(a, b, s)) < rest_gap) return false;
+    }
+    return x.w(v[0]) + x.w(v[1]) + x.w(v[2]) + x.w(v[3]) > 0.0f;
+  }
+
+  /// Query i against entry j: the pair, if it is one.
+  TEAR_HD bool take(index_t i, const Box& qb, index_t j, const GridEntries& entries, CollisionPair& pair) const {
+    const bool of_edges = i >= faces.count;
+    const index_t item = entries.items[j];
+    if (!qb.overlaps(entry_box(item, of_edges))) return false;
+    pair.edge_edge = of_edges ? 1 : 0;
+    return of_edges ? edge_edge(i - faces.count, item, pair.v) : node_face(i, item, pair.v);
+  }
+
+  TEAR_HD void operator()(index_t i) const {
+    const bool of_edges = i >= faces.count;
+    const GridEntries& entries = of_edges ? edge_entries : vertex_entries;
+    Box qb = of_edges ? edge_box(x, edges, i - faces.count) : face_box(x, faces, i);
+    qb.grow(margin);
+    index_t found = 0;
+    index_t out = offset ? offset[i] : 0;
+    CollisionPair pair;
+    const auto visit = [&](index_t j) {
+      if (!take(i, qb, j, entries, pair)) return;
+      if (offset) pairs[out++] = pair;
+      ++found;
+    };
+    // An entry's box is no wider than a cell: one that meets the query's starts at most a cell
+    // below it.
+    std::int32_t lo[3], hi[3];
+    grid.cells(qb, lo, hi);
+    for (int a = 0; a < 3; ++a) lo[a] = lo[a] > 0 ? lo[a] - 1 : 0;
+    const std::int64_t cells = static_cast<std::int64_t>(hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
+    if (cells <= max_walk && cells <= entries.everywhere_begin) {
+      for (std::int32_t k = lo[2]; k <= hi[2]; ++k)
+        for (std::int32_t jj = lo[1]; jj <= hi[1]; ++jj)
+          for (std::int32_t c = lo[0]; c <= hi[0]; ++c) {
+            const std::uint64_t key = CollisionGrid::key(c, jj, k);
+            for (index_t j = entries.lower_bound(key); j < entries.everywhere_begin && entries.keys[j] == key; ++j)
+              visit(j);
+          }
+    } else {
+      for (index_t j = 0; j < entries.everywhere_begin; ++j) visit(j);
+    }
+    for (index_t j = entries.everywhere_begin; j < entries.count; ++j) visit(j);
+    if (!offset) {
+      count[i] = found;
+      return;
+    }
+    // The run in the order of its vertices, whatever the grid: the contacts' moves are summed in
+    // this order, so a resumed run (whose grid may differ) sums them as the uninterrupted one.
+    CollisionPair* run = pairs + offset[i];
+    for (index_t a = 1; a < found; ++a) {
+      const CollisionPair p = run[a];
+      index_t b = a;
+      for (; b > 0 && before(p, run[b - 1]); --b) run[b] = run[b - 1];
+      run[b] = p;
+    }
+  }
+  TEAR_HD static bool before(const CollisionPair& a, const CollisionPair& b) {
+    for (int k = 0; k < 4; ++k)
+      if (a.v[k] != b.v[k]) return a.v[k] < b.v[k];
+    return false;
+  }
+};
+
+}  // namespace tear::kernels
