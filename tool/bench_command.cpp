@@ -87,6 +87,14 @@ void print_tear_row(const TearBenchRow& r, const TearBenchRow* cpu) {
   std::printf("\n");
 }
 
+void print_collision_row(const CollisionBenchRow& r, const CollisionBenchRow* cpu) {
+  std::printf("%-6s  %-7s  %8d  %8d  %-4s  %9.3f  %9.3f  %9.3f  %8.1f%%  %9.0f  %6lld", r.scene.c_str(),
+              r.resolution.c_str(), r.faces_start, r.faces_end, to_string(r.device), r.frame_ms_mean, r.solver_ms,
+              r.collision_ms, 100 * r.collision_fraction, r.bytes_per_face, static_cast<long long>(r.held_nodes));
+  if (cpu && r.frame_ms_mean > 0) std::printf("  %8.1fx", cpu->frame_ms_mean / r.frame_ms_mean);
+  std::printf("\n");
+}
+
 void print_io_row(const IoBenchRow& r) {
   const double mb = double(r.bytes) * 1e-6;
   std::printf("%10d  %-6s  %9.1f  %9.3f  %9.3f  %9.3f  %9.0f  %9.0f\n", r.faces, r.format.c_str(), mb, r.encode_ms,
@@ -216,6 +224,17 @@ nlohmann::json bench_tear(const BenchOptions& options, Device device, bool with_
       device, with_cpu, [&](Device d) { return run_tear_bench(options, d); }, print_tear_row);
 }
 
+nlohmann::json bench_collide(const BenchOptions& options, Device device, bool with_cpu) {
+  std::printf(
+      "\ncollide: a sheet folded onto itself (fold) and one falling onto a turning box (tear demo --scene drape), "
+      "self-collision on, no output; per-frame means in ms\n");
+  std::printf("%-6s  %-7s  %8s  %8s  %-4s  %9s  %9s  %9s  %9s  %9s  %6s%s\n", "scene", "size", "faces", "at end", "dev",
+              "frame", "solver", "collide", "col/sol", "B/face", "held", with_cpu ? "  cpu/gpu" : "");
+  std::fflush(stdout);
+  return run_paired<CollisionBenchRow>(
+      device, with_cpu, [&](Device d) { return run_collision_bench(options, d); }, print_collision_row);
+}
+
 nlohmann::json bench_io(const BenchOptions& options, const std::string& io_folder) {
   const ScratchFolder folder(io_folder);
   std::printf(
@@ -240,8 +259,8 @@ nlohmann::json bench_io(const BenchOptions& options, const std::string& io_folde
 
 void run_bench(const BenchArgs& args) {
   for (const std::string& part : args.only)
-    if (part != "remesh" && part != "pd" && part != "scene" && part != "tear" && part != "io")
-      throw Error(ErrorKind::usage, "--only " + part + ": expected remesh, pd, scene, tear or io");
+    if (part != "remesh" && part != "pd" && part != "scene" && part != "tear" && part != "collide" && part != "io")
+      throw Error(ErrorKind::usage, "--only " + part + ": expected remesh, pd, scene, tear, collide or io");
   const Device device = select_device(args.device);
   const bool with_cpu = device == Device::cuda && !args.no_cpu;
   const BenchOptions options = bench_options(args);
@@ -259,6 +278,7 @@ void run_bench(const BenchArgs& args) {
   if (wanted(args, "pd")) bench_pd(options, device, with_cpu, doc);
   if (wanted(args, "scene")) doc["scene"] = bench_scene(options, device, with_cpu);
   if (wanted(args, "tear")) doc["tear"] = bench_tear(options, device, with_cpu);
+  if (wanted(args, "collide")) doc["collide"] = bench_collide(options, device, with_cpu);
   if (wanted(args, "io")) doc["io"] = bench_io(options, args.io_folder);
   if (!args.json_path.empty()) write_file_atomically(args.json_path, doc.dump(2) + "\n");
 }
@@ -289,7 +309,7 @@ void add_bench_command(CLI::App& app) {
   cmd->add_option("--resolutions", args->resolutions,
                   "Resolutions of the scene part: low, medium, high (comma separated)")
       ->delimiter(',');
-  cmd->add_option("--only", args->only, "Run only these parts: remesh, pd, scene, tear, io (comma separated)")
+  cmd->add_option("--only", args->only, "Run only these parts: remesh, pd, scene, tear, collide, io (comma separated)")
       ->delimiter(',');
   cmd->add_option("--json", args->json_path, "Also write every number to this JSON file");
   cmd->add_option("--io-folder", args->io_folder,

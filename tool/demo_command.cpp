@@ -1,5 +1,6 @@
 // `tear demo`: the paper's scene (a sheet torn by six cuts, hanging from its top edge), or a sheet
-// torn by pulling or punching, or a woven one torn along its grain (`--scene pull|punch|grain`), with no input files, one OBJ per frame (or
+// torn by pulling or punching, a woven one torn along its grain, or one draped over a turning box
+// (`--scene pull|punch|grain|drape`), with no input files, one OBJ per frame (or
 // any output `tear run` writes, a USD layer among them).
 #include <cctype>
 #include <chrono>
@@ -100,8 +101,10 @@ void add_demo_command(CLI::App& app) {
       "Writes DIR/demo.0001.obj ... DIR/demo.0048.obj: two seconds at 24 fps, a cut every 8 frames from frame 4, "
       "the top edge pinned, gravity along -y. --scene pull: a notched sheet whose left and right strips are "
       "pulled apart until it tears in two; --scene punch: a horizontal sheet held at its four edges, torn open by "
-      "a rising sphere; --scene grain: a woven sheet with a UV seam at x = 0.7 pulled apart along a diagonal, "
-      "which tears along its weft and opens its seam (all three tear at a stretch of 1.3). An -o whose file name ends in .obj, .ply, .gltf, .glb, .usda "
+      "a rising sphere, its torn flaps kept apart by self-collision; --scene grain: a woven sheet with a UV seam at "
+      "x = 0.7 pulled apart along a diagonal, which tears along its weft and opens its seam; --scene drape: a sheet "
+      "caught at one corner falls onto a slowly turning box, folds on itself and tears where it snags (all four tear "
+      "at a stretch of 1.3). An -o whose file name ends in .obj, .ply, .gltf, .glb, .usda "
       "or .usd "
       "is an output pattern as for 'tear run' instead (out/demo.####.ply; shot.usda, one USD layer). Needs no "
       "input file. Exit codes: 0 ok, 1 usage error, 3 runtime failure.");
@@ -112,9 +115,10 @@ void add_demo_command(CLI::App& app) {
   command
       ->add_option("--scene", options->scene,
                    "Scene: paper (the default), pull (a notched sheet pulled apart), punch (a sphere through a "
-                   "held sheet) or grain (a woven sheet with a seam, pulled along a diagonal)")
-      ->type_name("paper|pull|punch|grain")
-      ->check(CLI::IsMember({"paper", "pull", "punch", "grain"}));
+                   "held sheet), grain (a woven sheet with a seam, pulled along a diagonal) or drape (a sheet falling onto a "
+                   "turning box)")
+      ->type_name("paper|pull|punch|grain|drape")
+      ->check(CLI::IsMember({"paper", "pull", "punch", "grain", "drape"}));
   command
       ->add_option("--resolution", options->resolution,
                    "Sheet resolution: low (2,822 faces, the default), "

@@ -95,6 +95,24 @@ struct TearBenchRow {
   double tear_fraction = 0;
 };
 
+/// A collision scene at one resolution run in memory: what the collision pass costs against the
+/// solver. `fold`: the punch scene's horizontal sheet 5 cm above a floor, its left strip carried over
+/// to its right side so that it folds onto itself; `drape`: the drape demo scene (`demo_script(
+/// DemoScene::drape)`). Per-frame means, milliseconds (`TearStats`); the median run of the repeats.
+struct CollisionBenchRow {
+  std::string scene, resolution;
+  index_t faces_start = 0, faces_end = 0;
+  Device device = Device::cpu;
+  std::string device_name;
+  int frames = 0;
+  double frame_ms_mean = 0;   ///< wall per frame, everything included
+  double solver_ms = 0;       ///< the substeps
+  double collision_ms = 0;    ///< the collision pass after them
+  double collision_fraction = 0;  ///< collision / solver
+  double bytes_per_face = 0;  ///< the collision pass's arrays at the end, per face
+  std::int64_t held_nodes = 0;  ///< nodes sent back to the start of a substep (the last resort)
+};
+
 /// A frame written and read back in one format, the way `tear run` writes it: the mesh of a cloth
 /// (`Cloth::mesh` on the CPU: UVs, normals, velocities, ids and origins) of an irregular sheet.
 /// Medians over the repeats, milliseconds.
@@ -117,6 +135,14 @@ std::vector<SceneBenchRow> run_scene_bench(const BenchOptions& options, Device d
 /// keeps its own solver settings).
 std::vector<TearBenchRow> run_tear_bench(const BenchOptions& options, Device device);
 
+/// The fold and drape scenes at each of `options.resolutions`.
+std::vector<CollisionBenchRow> run_collision_bench(const BenchOptions& options, Device device);
+
+/// The fold scene of `run_collision_bench` (and of the collision tests' kind): its sheet at
+/// `resolution` and its script (self-collision at `demo_collision_thickness`).
+Mesh make_fold_mesh(DemoResolution resolution);
+CutScript fold_script();
+
 /// Every format at every size of `options.face_counts`, written in `folder` (which must exist; the
 /// files are removed after each size).
 std::vector<IoBenchRow> run_io_bench(const BenchOptions& options, const std::string& folder);
@@ -133,6 +159,7 @@ std::string to_json(const BenchRow& row);
 std::string to_json(const PdBenchRow& row);
 std::string to_json(const SceneBenchRow& row);
 std::string to_json(const TearBenchRow& row);
+std::string to_json(const CollisionBenchRow& row);
 std::string to_json(const IoBenchRow& row);
 
 }  // namespace tear

@@ -88,6 +88,10 @@ struct TearStats {
   /// and rebuilding the solver's model for the torn cloth; `collision_ms`, the collision pass after
   /// the substeps (docs/simulation.md, *Collision*).
   double solver_ms = 0, check_ms = 0, apply_ms = 0, rebuild_ms = 0, collision_ms = 0;
+  /// The collision pass: the bytes its arrays hold, and the nodes it has sent back to where they
+  /// started a substep (its last resort where contacts still cross) since the simulation started.
+  std::size_t collision_bytes = 0;
+  std::int64_t held_nodes = 0;
 };
 
 struct SimulationOptions;

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "tear/cut_script.h"
+#include "tear/simulation_options.h"
 #include "tear/mesh.h"
 
 namespace tear {
@@ -40,14 +41,16 @@ Mesh make_demo_sheet(DemoResolution resolution);
 CutScript demo_script();
 
 /// The scenes of `tear demo`: the paper's (the default), a notched sheet pulled apart by keyed pins
-/// until it tears in two, a horizontal sheet held at its edges torn open by a rising sphere, and a
-/// woven square with a UV seam pulled along a diagonal (it tears along its weft and opens its seam).
-enum class DemoScene { paper, pull, punch, grain };
+/// until it tears in two, a horizontal sheet held at its edges torn open by a rising sphere, a
+/// woven square with a UV seam pulled along a diagonal (it tears along its weft and opens its
+/// seam), and a sheet caught at a corner falling onto a slowly turning box (it folds on itself and
+/// tears where it snags).
+enum class DemoScene { paper, pull, punch, grain, drape };
 
-/// "paper", "pull", "punch" or "grain".
+/// "paper", "pull", "punch", "grain" or "drape".
 const char* to_string(DemoScene scene);
 
-/// Parses "paper", "pull", "punch" or "grain"; anything else is a usage `Error`.
+/// Parses "paper", "pull", "punch", "grain" or "drape"; anything else is a usage `Error`.
 DemoScene parse_demo_scene(const std::string& text);
 
 /// The stretch limit (`simulation.tearing.stretch`) of the pull and punch scenes.
@@ -66,6 +69,17 @@ inline constexpr double demo_grain_seam_x = 0.7;
 inline constexpr double demo_grain_weft_strength = 0.85;
 inline constexpr double demo_grain_seam_strength = 0.85;
 
+/// The drape scene: the sheet's height above the box's centre at the start, the box's half side
+/// and its turn over the frames (degrees about y), the collision thickness (punch's too).
+inline constexpr double demo_drape_height = 0.55;
+inline constexpr double demo_drape_box_half = 0.22;
+inline constexpr double demo_drape_turn = 60;
+inline constexpr double demo_collision_thickness = 0.004;
+
+/// A closed box of half side `half` about `centre`, its faces counter-clockwise seen from outside,
+/// each side split into `n` × `n` squares: the drape scene's body.
+ColliderMesh make_box_collider(std::array<double, 3> centre, double half, int n);
+
 /// The sheet of `scene` at `resolution`: `make_demo_sheet`'s for the paper and pull scenes (grain:
 /// with its UV seam at `demo_grain_seam_x`); for
 /// punch the same sheet turned horizontal, [0, 1] x {0} x [0, 1] with its normal along +y
@@ -83,6 +97,11 @@ Mesh make_demo_mesh(DemoScene scene, DemoResolution resolution);
 /// pinned and moved apart along the diagonal (-1, -1) and (1, 1) by `demo_pull_distance` each,
 /// tearing at `demo_tear_stretch` with a weave (warp along v, weft along u, weft strength
 /// `demo_grain_weft_strength`) and seams at `demo_grain_seam_strength`.
+/// punch also has self-collision (`demo_collision_thickness`), so its torn flaps stay apart.
+/// drape (named "(demo scene: drape)"): the punch's horizontal sheet `demo_drape_height` above a
+/// box (`make_box_collider`, centre (0.5, 0, 0.5)) turning by `demo_drape_turn` degrees about y over
+/// the frames, the sheet's corner x, z <= 0.04 pinned where it is, gravity along -y, a floor at
+/// y = -0.3, self-collision with friction 0.3, tearing at `demo_tear_stretch`.
 CutScript demo_script(DemoScene scene);
 
 }  // namespace tear

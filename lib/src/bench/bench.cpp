@@ -230,6 +230,73 @@ std::vector<TearBenchRow> run_tear_bench(const BenchOptions& options, Device dev
   return rows;
 }
 
+Mesh make_fold_mesh(DemoResolution resolution) {
+  Mesh mesh = make_demo_mesh(DemoScene::punch, resolution);
+  for (std::size_t i = 1; i < mesh.node_pos.size(); i += 3) mesh.node_pos[i] = 0.05f;
+  return mesh;
+}
+
+CutScript fold_script() {
+  const nlohmann::json script = {
+      {"version", 1},
+      {"frames", 30},
+      {"simulation",
+       {{"substeps", 4},
+        {"iterations", 40},
+        {"colliders", {{{"plane", {{"point", {0, 0, 0}}, {"normal", {0, 1, 0}}}}}}},
+        {"collision", {{"self", true}, {"thickness", demo_collision_thickness}, {"friction", 0.2}}},
+        {"pins",
+         {{{"box", {{"min", {-1, -1, -1}}, {"max", {0.03, 1, 2}}}},
+           {"keys",
+            {{{"frame", 0}, {"offset", {0, 0, 0}}},
+             {{"frame", 10}, {"offset", {0.3, 0.25, 0}}},
+             {{"frame", 20}, {"offset", {0.85, 0.05, 0}}}}}}}}}}};
+  return parse_cut_script(script.dump(), "(bench scene: fold)");
+}
+
+std::vector<CollisionBenchRow> run_collision_bench(const BenchOptions& options, Device device) {
+  using Clock = std::chrono::steady_clock;
+  std::vector<CollisionBenchRow> rows;
+  for (const char* scene : {"fold", "drape"})
+    for (DemoResolution resolution : options.resolutions) {
+      const bool fold = std::string(scene) == "fold";
+      const CutScript script = fold ? fold_script() : demo_script(DemoScene::drape);
+      const Mesh mesh = fold ? make_fold_mesh(resolution) : make_demo_mesh(DemoScene::drape, resolution);
+      std::vector<CollisionBenchRow> runs;
+      for (int run = 0; run < options.warmup + options.repeats; ++run) {
+        CollisionBenchRow row;
+        row.scene = scene;
+        row.resolution = to_string(resolution);
+        row.faces_start = mesh.face_count();
+        row.device = device;
+        row.device_name = device_name(device);
+        Cloth cloth(mesh, device);
+        synchronize(device);
+        const Clock::time_point start = Clock::now();
+        TearStats last;
+        run_cuts(cloth, script, script.frames, [&](const FrameResult& frame, const Cloth& c) {
+          last = c.last_tear();
+          row.solver_ms += last.solver_ms;
+          row.collision_ms += last.collision_ms;
+          row.frames = frame.frame;
+          row.faces_end = c.face_count();
+        });
+        const double total = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
+        if (row.frames > 0) {
+          row.frame_ms_mean = total / row.frames;
+          row.solver_ms /= row.frames;
+          row.collision_ms /= row.frames;
+        }
+        if (row.solver_ms > 0) row.collision_fraction = row.collision_ms / row.solver_ms;
+        row.bytes_per_face = row.faces_end > 0 ? double(last.collision_bytes) / row.faces_end : 0;
+        row.held_nodes = last.held_nodes;
+        if (run >= options.warmup) runs.push_back(row);
+      }
+      rows.push_back(median_run(std::move(runs)));
+    }
+  return rows;
+}
+
 std::vector<IoBenchRow> run_io_bench(const BenchOptions& options, const std::string& folder) {
   using Clock = std::chrono::steady_clock;
   const auto ms_since = [](Clock::time_point start) {
@@ -310,6 +377,22 @@ std::string to_json(const TearBenchRow& row) {
                     {"solver_ms", row.solver_ms},       {"check_ms", row.check_ms},
                     {"apply_ms", row.apply_ms},         {"rebuild_ms", row.rebuild_ms},
                     {"tear_fraction", row.tear_fraction}});
+}
+
+std::string to_json(const CollisionBenchRow& row) {
+  return json_text({{"scene", row.scene},
+                    {"resolution", row.resolution},
+                    {"faces_start", row.faces_start},
+                    {"faces_end", row.faces_end},
+                    {"device", to_string(row.device)},
+                    {"device_name", row.device_name},
+                    {"frames", row.frames},
+                    {"frame_ms_mean", row.frame_ms_mean},
+                    {"solver_ms", row.solver_ms},
+                    {"collision_ms", row.collision_ms},
+                    {"collision_fraction", row.collision_fraction},
+                    {"bytes_per_face", row.bytes_per_face},
+                    {"held_nodes", row.held_nodes}});
 }
 
 std::string to_json(const IoBenchRow& row) {

@@ -93,6 +93,10 @@ class StepJob {
       if (cloth.face_count() > faces_before && cloth.face_count() > face_budget_) over_budget(cloth, frame);
     }
     Traits<System>::synchronize();
+    if (collides_) {
+      torn.collision_bytes = collision_.bytes();
+      torn.held_nodes = collision_.held_nodes();
+    }
     for (int s = 0; s < substeps; ++s) {
       const StepMarks& m = marks_[s];
       if (m.rebuilt) torn.rebuild_ms += QueueMark::elapsed_ms(m.rebuild_start, m.rebuild_end);

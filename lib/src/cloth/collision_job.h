@@ -18,6 +18,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <tuple>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -171,6 +172,16 @@ class CollisionJob {
 
   /// Nodes sent back to the start of their substep since the job started (the last resort).
   std::int64_t held_nodes() const { return held_nodes_; }
+
+  /// Bytes the pass's arrays hold.
+  std::size_t bytes() const {
+    std::size_t total = 0;
+    const auto add = [&](const auto& v) { total += v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type); };
+    add(body_faces_), add(body_edges_), add(body_x0_), add(body_x1_), add(x0_), add(solved_), add(colliders_);
+    add(pair_count_), add(vertex_keys_), add(edge_keys_), add(vertex_items_), add(edge_items_), add(pairs_);
+    add(tally_), add(slot_offset_), add(slots_), add(moves_), add(held_);
+    return total;
+  }
 
  private:
   static constexpr int max_hold_rounds = 8;

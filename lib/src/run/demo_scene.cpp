@@ -87,14 +87,16 @@ const char* to_string(DemoScene scene) {
       return "punch";
     case DemoScene::grain:
       return "grain";
+    case DemoScene::drape:
+      return "drape";
   }
   return "?";
 }
 
 DemoScene parse_demo_scene(const std::string& text) {
-  for (DemoScene s : {DemoScene::paper, DemoScene::pull, DemoScene::punch, DemoScene::grain})
+  for (DemoScene s : {DemoScene::paper, DemoScene::pull, DemoScene::punch, DemoScene::grain, DemoScene::drape})
     if (text == to_string(s)) return s;
-  throw Error(ErrorKind::usage, "--scene: expected paper, pull, punch or grain, got '" + text + "'");
+  throw Error(ErrorKind::usage, "--scene: expected paper, pull, punch, grain or drape, got '" + text + "'");
 }
 
 Mesh make_demo_mesh(DemoScene scene, DemoResolution resolution) {
@@ -110,13 +112,13 @@ Mesh make_demo_mesh(DemoScene scene, DemoResolution resolution) {
     }
     return sheet;
   }
-  if (scene != DemoScene::punch) return sheet;
+  if (scene != DemoScene::punch && scene != DemoScene::drape) return sheet;
   // Turned about x so that the normal +z becomes +y: (x, y, z) -> (x, z, 1 - y) (a rotation, so
   // the faces keep their orientation). The sheet's z is 0, so its nodes land on y = 0 and its
   // border rows on z = 0 and z = 1 exactly.
   for (std::size_t i = 0; i < sheet.node_pos.size(); i += 3) {
     const float y = sheet.node_pos[i + 1], z = sheet.node_pos[i + 2];
-    sheet.node_pos[i + 1] = z;
+    sheet.node_pos[i + 1] = scene == DemoScene::drape ? z + static_cast<float>(demo_drape_height) : z;
     sheet.node_pos[i + 2] = 1.0f - y;
   }
   for (std::size_t i = 0; i < sheet.corner_normal.size(); i += 3) {
@@ -140,6 +142,37 @@ nlohmann::json linear_keys(std::array<double, 3> offset) {
 }
 
 }  // namespace
+
+ColliderMesh make_box_collider(std::array<double, 3> centre, double half, int n) {
+  ColliderMesh box;
+  box.file = "(demo box)";
+  std::vector<float> v;
+  // Each side: a grid of (n + 1)² vertices on the face whose outward normal is ±axis `a`.
+  for (int a = 0; a < 3; ++a)
+    for (int sign = -1; sign <= 1; sign += 2) {
+      const int u = (a + 1) % 3, w = (a + 2) % 3;
+      const index_t first = static_cast<index_t>(v.size() / 3);
+      for (int j = 0; j <= n; ++j)
+        for (int i = 0; i <= n; ++i) {
+          std::array<double, 3> p{};
+          p[a] = centre[a] + sign * half;
+          p[u] = centre[u] + half * (2.0 * i / n - 1);
+          p[w] = centre[w] + half * (2.0 * j / n - 1);
+          for (double c : p) v.push_back(static_cast<float>(c));
+        }
+      for (int j = 0; j < n; ++j)
+        for (int i = 0; i < n; ++i) {
+          const index_t p00 = first + j * (n + 1) + i, p10 = p00 + 1, p01 = p00 + n + 1, p11 = p01 + 1;
+          // (u, w, a) is right-handed: counter-clockwise about +a is u then w.
+          if (sign > 0)
+            box.face_nodes.insert(box.face_nodes.end(), {p00, p10, p11, p00, p11, p01});
+          else
+            box.face_nodes.insert(box.face_nodes.end(), {p00, p11, p10, p00, p01, p11});
+        }
+    }
+  box.frames.push_back(std::move(v));
+  return box;
+}
 
 CutScript demo_script(DemoScene scene) {
   if (scene == DemoScene::paper) return demo_script();
@@ -171,7 +204,7 @@ CutScript demo_script(DemoScene scene) {
                             {"gravity", {0.0, 0.0, 0.0}},
                             {"pins", nlohmann::json::array({left, right})},
                             {"tearing", woven}};
-  } else {
+  } else if (scene == DemoScene::punch) {
     // The four border rows of the horizontal sheet lie exactly on x = 0, x = 1, z = 0 and z = 1;
     // the next rows are more than 5 mm inside at the high resolution.
     const nlohmann::json pins = nlohmann::json::array({
@@ -186,9 +219,33 @@ CutScript demo_script(DemoScene scene) {
                             {"gravity", {0.0, -9.81, 0.0}},
                             {"pins", pins},
                             {"colliders", nlohmann::json::array({sphere})},
+                            {"collision", {{"self", true}, {"thickness", demo_collision_thickness}}},
                             {"tearing", tearing}};
+  } else {
+    // drape: the corner caught, a floor under the box; the box is added below (it is no file).
+    const nlohmann::json floor = {{"plane", {{"point", {0.0, -0.3, 0.0}}, {"normal", {0.0, 1.0, 0.0}}}}};
+    script["simulation"] = {
+        {"fps", demo_fps},
+        {"gravity", {0.0, -9.81, 0.0}},
+        {"pins", nlohmann::json::array({box({-1.0, -1.0, -1.0}, {0.04, 2.0, 0.04})})},
+        {"colliders", nlohmann::json::array({floor})},
+        {"collision", {{"self", true}, {"thickness", demo_collision_thickness}, {"friction", 0.3}}},
+        {"tearing", tearing}};
   }
-  return parse_cut_script(script.dump(), std::string("(demo scene: ") + to_string(scene) + ")");
+  CutScript parsed = parse_cut_script(script.dump(), std::string("(demo scene: ") + to_string(scene) + ")");
+  if (scene == DemoScene::drape) {
+    Collider body;
+    body.kind = Collider::Kind::mesh;
+    body.mesh = std::make_shared<const ColliderMesh>(make_box_collider({0.5, 0.0, 0.5}, demo_drape_box_half, 8));
+    body.pivot = {0.5, 0.0, 0.5};
+    body.key_path = "simulation.colliders[1]";
+    Key start, end;
+    end.frame = demo_frames;
+    end.degrees = demo_drape_turn;
+    body.keys = {start, end};
+    parsed.simulation->colliders.push_back(std::move(body));
+  }
+  return parsed;
 }
 
 }  // namespace tear
