@@ -10,7 +10,8 @@ The mesh is split into its pieces (connected parts), each drawn in its own colou
 Workbench engine, under a camera that frames the mesh (its pieces of at least 2 % of the faces;
 shreds a tear throws off may lie outside the picture) from --view: `front` (from +z, the side
 a sheet of tear's xy plane faces), `top` (from above, at an angle), or a direction X,Y,Z in tear's
-coordinates. --sphere X,Y,Z,R adds a sphere (a collider's, in tear's coordinates) to the picture.
+coordinates. --sphere X,Y,Z,R adds a sphere (a collider's, in tear's coordinates) to the picture;
+--body FILE.obj adds a mesh (a mesh collider where it is at that frame).
 """
 
 import argparse
@@ -34,6 +35,7 @@ def parse_args():
     parser.add_argument("--view", default="front", help="front, top, or a direction X,Y,Z (tear's coordinates)")
     parser.add_argument("--size", default="800x600", help="WIDTHxHEIGHT in pixels (default 800x600)")
     parser.add_argument("--sphere", default=None, help="X,Y,Z,R: a sphere to draw (tear's coordinates)")
+    parser.add_argument("--body", default=None, help="an OBJ to draw in grey (a mesh collider, tear's coordinates)")
     parser.add_argument("--engine", default="workbench", choices=["workbench", "eevee"])
     return parser.parse_args(argv)
 
@@ -94,6 +96,9 @@ def main():
         sphere = bpy.context.active_object
         bpy.ops.object.shade_smooth()
         sphere.color = (0.75, 0.75, 0.75, 1.0)
+    if args.body:
+        for o in import_frame(args.body):
+            o.color = (0.75, 0.75, 0.75, 1.0)
     lo = Vector((min(c[i] for c in corners) for i in range(3)))
     hi = Vector((max(c[i] for c in corners) for i in range(3)))
     centre = (lo + hi) / 2

@@ -20,7 +20,9 @@ namespace tear {
 
 namespace {
 /// Device names come from drivers: replace bytes that are not UTF-8 rather than fail on them.
-std::string json_text(const nlohmann::json& j) { return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace); }
+std::string json_text(const nlohmann::json& j) {
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
 
 /// The median of `runs` by mean frame time (the scene and tear parts' rows).
 template <class Row>
@@ -48,7 +50,8 @@ void check_bench_options(const BenchOptions& options) {
     throw Error(ErrorKind::usage, "--warmup " + std::to_string(options.warmup) + ": expected 0..1000");
   if (options.iterations < 1 || options.iterations > 100000)
     throw Error(ErrorKind::usage, "--iterations " + std::to_string(options.iterations) + ": expected 1..100000");
-  if (options.segments < 1) throw Error(ErrorKind::usage, "segments " + std::to_string(options.segments) + ": expected >= 1");
+  if (options.segments < 1)
+    throw Error(ErrorKind::usage, "segments " + std::to_string(options.segments) + ": expected >= 1");
 }
 
 CutLine bench_cut(int segments) {
@@ -132,7 +135,8 @@ std::vector<PdBenchRow> run_pd_bench(const BenchOptions& options, Device device,
       const Clock::time_point start = Clock::now();
       solver.step();
       synchronize(device);
-      if (run >= options.warmup) times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
+      if (run >= options.warmup)
+        times.push_back(std::chrono::duration<double, std::milli>(Clock::now() - start).count());
     }
     PdBenchRow row;
     row.faces = faces;
@@ -308,7 +312,10 @@ std::vector<IoBenchRow> run_io_bench(const BenchOptions& options, const std::str
     sheet.face_count = faces;
     const Mesh frame = Cloth(make_sheet(sheet), Device::cpu).mesh();
     for (const MeshFormat format : {MeshFormat::obj, MeshFormat::ply, MeshFormat::gltf, MeshFormat::glb}) {
-      const char* name = format == MeshFormat::obj ? "obj" : format == MeshFormat::ply ? "ply" : format == MeshFormat::gltf ? "gltf" : "glb";
+      const char* name = format == MeshFormat::obj    ? "obj"
+                         : format == MeshFormat::ply  ? "ply"
+                         : format == MeshFormat::gltf ? "gltf"
+                                                      : "glb";
       const std::string path = (std::filesystem::path(folder) / ("frame." + std::string(name))).string();
       std::vector<double> encode, write, read;
       std::string bytes;
@@ -347,35 +354,46 @@ std::vector<IoBenchRow> run_io_bench(const BenchOptions& options, const std::str
 
 std::string to_json(const PdBenchRow& row) {
   return json_text({{"faces", row.faces},
-          {"nodes", row.nodes},
-          {"constraints", row.constraints},
-          {"device", to_string(row.device)},
-          {"device_name", row.device_name},
-          {"iterations", row.iterations},
-          {"step_ms", row.step_ms},
-          {"iteration_ms", row.iteration_ms},
-          {"node_iterations_per_s", row.node_iterations_per_s},
-          {"bytes_per_iteration", row.bytes_per_iteration},
-          {"floor_ms", row.floor_ms},
-          {"peak_bytes", row.peak_bytes}});
+                    {"nodes", row.nodes},
+                    {"constraints", row.constraints},
+                    {"device", to_string(row.device)},
+                    {"device_name", row.device_name},
+                    {"iterations", row.iterations},
+                    {"step_ms", row.step_ms},
+                    {"iteration_ms", row.iteration_ms},
+                    {"node_iterations_per_s", row.node_iterations_per_s},
+                    {"bytes_per_iteration", row.bytes_per_iteration},
+                    {"floor_ms", row.floor_ms},
+                    {"peak_bytes", row.peak_bytes}});
 }
 
 std::string to_json(const SceneBenchRow& row) {
-  return json_text({{"resolution", row.resolution},       {"faces_start", row.faces_start},
-          {"faces_end", row.faces_end},         {"device", to_string(row.device)},
-          {"device_name", row.device_name},     {"frames", row.frames},
-          {"iterations", row.iterations},       {"frame_ms_mean", row.frame_ms_mean},
-          {"frame_ms_max", row.frame_ms_max},   {"remesh_ms", row.remesh_ms},
-          {"simulation_ms", row.simulation_ms}});
+  return json_text({{"resolution", row.resolution},
+                    {"faces_start", row.faces_start},
+                    {"faces_end", row.faces_end},
+                    {"device", to_string(row.device)},
+                    {"device_name", row.device_name},
+                    {"frames", row.frames},
+                    {"iterations", row.iterations},
+                    {"frame_ms_mean", row.frame_ms_mean},
+                    {"frame_ms_max", row.frame_ms_max},
+                    {"remesh_ms", row.remesh_ms},
+                    {"simulation_ms", row.simulation_ms}});
 }
 
 std::string to_json(const TearBenchRow& row) {
-  return json_text({{"resolution", row.resolution},     {"faces_start", row.faces_start},
-                    {"faces_end", row.faces_end},       {"device", to_string(row.device)},
-                    {"device_name", row.device_name},   {"frames", row.frames},
-                    {"tear_events", row.tear_events},   {"frame_ms_mean", row.frame_ms_mean},
-                    {"solver_ms", row.solver_ms},       {"check_ms", row.check_ms},
-                    {"apply_ms", row.apply_ms},         {"rebuild_ms", row.rebuild_ms},
+  return json_text({{"resolution", row.resolution},
+                    {"faces_start", row.faces_start},
+                    {"faces_end", row.faces_end},
+                    {"device", to_string(row.device)},
+                    {"device_name", row.device_name},
+                    {"frames", row.frames},
+                    {"tear_events", row.tear_events},
+                    {"frame_ms_mean", row.frame_ms_mean},
+                    {"solver_ms", row.solver_ms},
+                    {"check_ms", row.check_ms},
+                    {"apply_ms", row.apply_ms},
+                    {"rebuild_ms", row.rebuild_ms},
                     {"tear_fraction", row.tear_fraction}});
 }
 
@@ -396,17 +414,27 @@ std::string to_json(const CollisionBenchRow& row) {
 }
 
 std::string to_json(const IoBenchRow& row) {
-  return json_text({{"faces", row.faces},       {"format", row.format},       {"bytes", row.bytes},
-                    {"encode_ms", row.encode_ms}, {"write_ms", row.write_ms}, {"read_ms", row.read_ms}});
+  return json_text({{"faces", row.faces},
+                    {"format", row.format},
+                    {"bytes", row.bytes},
+                    {"encode_ms", row.encode_ms},
+                    {"write_ms", row.write_ms},
+                    {"read_ms", row.read_ms}});
 }
 
 std::string to_json(const BenchRow& row) {
   nlohmann::json stages = nlohmann::json::object();
-  for (int s = 0; s < static_cast<int>(CutStage::count); ++s) stages[to_string(static_cast<CutStage>(s))] = row.stage_ms[s];
-  return json_text({{"faces", row.faces},           {"device", to_string(row.device)}, {"device_name", row.device_name},
-          {"remesh_ms", row.remesh_ms},   {"stage_ms", stages},              {"faces_per_s", row.faces_per_s},
-          {"nodes_after", row.nodes_after}, {"faces_after", row.faces_after},
-          {"peak_bytes", row.peak_bytes}});
+  for (int s = 0; s < static_cast<int>(CutStage::count); ++s)
+    stages[to_string(static_cast<CutStage>(s))] = row.stage_ms[s];
+  return json_text({{"faces", row.faces},
+                    {"device", to_string(row.device)},
+                    {"device_name", row.device_name},
+                    {"remesh_ms", row.remesh_ms},
+                    {"stage_ms", stages},
+                    {"faces_per_s", row.faces_per_s},
+                    {"nodes_after", row.nodes_after},
+                    {"faces_after", row.faces_after},
+                    {"peak_bytes", row.peak_bytes}});
 }
 
 }  // namespace tear

@@ -176,7 +176,9 @@ class CollisionJob {
   /// Bytes the pass's arrays hold.
   std::size_t bytes() const {
     std::size_t total = 0;
-    const auto add = [&](const auto& v) { total += v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type); };
+    const auto add = [&](const auto& v) {
+      total += v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type);
+    };
     add(body_faces_), add(body_edges_), add(body_x0_), add(body_x1_), add(x0_), add(solved_), add(colliders_);
     add(pair_count_), add(vertex_keys_), add(edge_keys_), add(vertex_items_), add(edge_items_), add(pairs_);
     add(tally_), add(slot_offset_), add(slots_), add(moves_), add(held_);

@@ -1,5 +1,5 @@
-#include <cmath>
 #include "tear/demo_scene.h"
+#include <cmath>
 
 #include <array>
 #include <string>
@@ -224,13 +224,12 @@ CutScript demo_script(DemoScene scene) {
   } else {
     // drape: the corner caught, a floor under the box; the box is added below (it is no file).
     const nlohmann::json floor = {{"plane", {{"point", {0.0, -0.3, 0.0}}, {"normal", {0.0, 1.0, 0.0}}}}};
-    script["simulation"] = {
-        {"fps", demo_fps},
-        {"gravity", {0.0, -9.81, 0.0}},
-        {"pins", nlohmann::json::array({box({-1.0, -1.0, -1.0}, {0.04, 2.0, 0.04})})},
-        {"colliders", nlohmann::json::array({floor})},
-        {"collision", {{"self", true}, {"thickness", demo_collision_thickness}, {"friction", 0.3}}},
-        {"tearing", tearing}};
+    script["simulation"] = {{"fps", demo_fps},
+                            {"gravity", {0.0, -9.81, 0.0}},
+                            {"pins", nlohmann::json::array({box({-1.0, -1.0, -1.0}, {0.04, 2.0, 0.04})})},
+                            {"colliders", nlohmann::json::array({floor})},
+                            {"collision", {{"self", true}, {"thickness", demo_collision_thickness}, {"friction", 0.3}}},
+                            {"tearing", tearing}};
   }
   CutScript parsed = parse_cut_script(script.dump(), std::string("(demo scene: ") + to_string(scene) + ")");
   if (scene == DemoScene::drape) {
