@@ -405,6 +405,25 @@ class ScriptsFromDicts(Work):
                     tear.Script(data)
 
 
+class Library(unittest.TestCase):
+    def test_refuses_a_library_of_other_headers(self):
+        # A libtear.so built from other headers than the module (an older build's, found first
+        # through LD_LIBRARY_PATH) corrupted memory at the first script handed across; the module
+        # refuses it on import instead. tear_wrong_layout, preloaded, plays that library's part.
+        stub = os.environ.get("TEAR_WRONG_LAYOUT_LIBRARY")
+        if not stub:
+            self.skipTest("TEAR_WRONG_LAYOUT_LIBRARY is not set (ctest sets it)")
+        env = dict(os.environ, LD_PRELOAD=(os.environ.get("LD_PRELOAD", "") + " " + stub).strip())
+        code = "import sys; sys.path.insert(0, %r); import tear" % MODULE_DIR
+        done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+        self.assertEqual(done.returncode, 1, done.stderr)
+        self.assertRegex(done.stderr, r"ImportError: tear: \S*libtear\.so was built from other headers than this "
+                                      r"module; rebuild both together, or check that LD_LIBRARY_PATH")
+        done = subprocess.run([sys.executable, "-c", code + "; tear.Script({'version': 1, 'frames': 1})"],
+                              capture_output=True, text=True)
+        self.assertEqual(done.returncode, 0, done.stderr)
+
+
 class ClothApi(Work):
     def test_cut_step_mesh(self):
         cloth = tear.Cloth(MESH, device="cpu", script=SIMULATED)
