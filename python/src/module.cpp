@@ -1,6 +1,8 @@
 // tear's Python module, `tear._tear`: the library's meshes, scripts, runs and cloth, through
 // nanobind. The Python package (python/tear/__init__.py) adds the keyword-argument API on top; the
 // arrays a frame hands out are read-only NumPy views of its host buffers, never copies.
+#include <dlfcn.h>
+
 #include <cmath>
 #include <csignal>
 #include <cstring>
@@ -8,6 +10,7 @@
 #include <new>
 #include <numeric>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -246,9 +249,26 @@ tear::CutSpace parse_space(const std::string& space) {
                     "space: expected \"uv\", \"rest-xy\", \"rest-xz\" or \"rest-yz\", got \"" + space + "\"");
 }
 
+/// Refuses a libtear.so built from other headers than this module (one found first through
+/// LD_LIBRARY_PATH, an older build's): its types would not be the module's, and the first script
+/// or mesh handed across would corrupt memory (tear/layout.h). An ImportError instead.
+void check_library_layout() {
+  if (tear::library_layout_digest() == tear::layout_digest_here()) return;
+  Dl_info info{};
+  const auto fn = &tear::cuda_available;  // a function of libtear.so alone (the digest may be interposed)
+  void* address = nullptr;
+  static_assert(sizeof(fn) == sizeof(address));
+  std::memcpy(&address, &fn, sizeof(address));
+  const std::string library = dladdr(address, &info) && info.dli_fname ? info.dli_fname : "libtear.so";
+  throw std::runtime_error("tear: " + library +
+                           " was built from other headers than this module; rebuild both together, or check "
+                           "that LD_LIBRARY_PATH does not lead to another build's libtear.so");
+}
+
 }  // namespace
 
 NB_MODULE(_tear, m) {
+  check_library_layout();
   m.doc() = "tear's library, bound with nanobind (use the `tear` package, not this module)";
   m.attr("__version__") = TEAR_VERSION;
   nb::register_exception_translator(translate);

@@ -8,7 +8,9 @@ Checks that frames from Python, once written, are byte-identical to `tear run`'s
 inputs (OBJ, PLY, GLB and per-frame USD layers; a cut-only and a simulated script), and so is a
 whole run written by `tear.run(..., output=...)`; the arrays' dtypes, shapes and read-only flags,
 and that they view the frame's buffers without a copy; every error class, with the CLI's message;
-memory flat over 1,000 frames iterated; a DLPack round trip with NumPy; `tear.Cloth`.
+memory flat over 1,000 frames iterated; a DLPack round trip with NumPy; `tear.Cloth`; scripts
+from dicts of many shapes (the examples, nested simulation blocks, ints as floats, bools, keys that
+are not strings, deep nesting) against the same scripts read from files.
 
 Exit 0 when every check holds, 1 when one fails. `--missing` (what CMake runs where the module
 could not be built: no nanobind or no Python headers) exits 77, skipped, with REASON, unless
@@ -17,6 +19,7 @@ TEAR_REQUIRE_PYTHON=1 (CI), where it fails.
 
 import gc
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -319,6 +322,106 @@ class Errors(Work):
         self.assertEqual(signal.getsignal(signal.SIGTERM), previous)  # the handler is given back
         self.assertRegex(str(caught.exception), r"^stopped after frame \d+ of 2000; '--resume' goes on from ")
         self.assertEqual(caught.exception.exit_code, 4)
+
+
+class ScriptsFromDicts(Work):
+    """`tear.Script(dict)` on dicts of every shape a caller may build: the same script as the file,
+    or `BadInput` with the CLI's message; never a crash of the interpreter."""
+
+    def examples(self):
+        import glob
+        import json
+        paths = sorted(glob.glob(os.path.join(SOURCE, "examples", "**", "*.json"), recursive=True))
+        self.assertTrue(paths)
+        for path in paths:
+            with open(path) as f:
+                yield path, json.load(f)
+
+    def assert_same_script(self, a, b):
+        for name in ("frames", "snap", "version", "cut_count", "simulated", "fps"):
+            self.assertEqual(getattr(a, name), getattr(b, name), name)
+
+    def test_examples_as_dicts(self):
+        for path, data in self.examples():
+            with self.subTest(path=os.path.relpath(path, SOURCE)):
+                try:
+                    loaded = tear.Script.load(path)
+                except tear.BadInput as e:  # a JSON file of examples/ that is not a script
+                    with self.assertRaisesRegex(tear.BadInput, "^" + re.escape(str(e)) + "$"):
+                        tear.Script(data, name=path)
+                    continue
+                self.assert_same_script(tear.Script(data, name=path), loaded)
+
+    def test_simulation_blocks(self):
+        nested = dict(SIMULATED, simulation=dict(SIMULATED["simulation"], gravity=[0, -9.81, 0],
+                                                 tearing={"stretch": 1.5, "weave": {"warp": [1, 0], "weft_strength": 2}}))
+        path = self.script_file(nested)
+        self.assert_same_script(tear.Script(nested), tear.Script.load(path))
+        self.assertTrue(tear.Script(nested).simulated)
+        self.assertEqual(tear.Script(dict(SIMULATED, simulation={"fps": 30})).fps, 30)
+
+    def test_numbers_and_empty_lists(self):
+        as_floats = tear.Script({"version": 1.0, "frames": 4.0, "snap": 0, "cuts": []})
+        self.assertEqual((as_floats.frames, as_floats.cut_count, as_floats.snap), (4, 0, 0.0))
+        self.assertTrue(tear.Script({"version": 1, "frames": 1, "cuts": [], "simulation": {"pins": []}}).simulated)
+        with self.assertRaisesRegex(tear.BadInput, r"^script: frames: expected an integer in 1\.\.\d+, got 4\.5$"):
+            tear.Script({"version": 1, "frames": 4.5})
+        with self.assertRaisesRegex(tear.BadInput, r"^script: frames: expected an integer in 1\.\.\d+, got "):
+            tear.Script({"version": 1, "frames": 2 ** 64})
+
+    def test_bools_are_not_numbers(self):
+        # Python's bools are ints; JSON's are not, and neither are a script's.
+        with self.assertRaisesRegex(tear.BadInput, r"^script: version: expected 1, got true$"):
+            tear.Script({"version": True, "frames": 2})
+        with self.assertRaisesRegex(tear.BadInput, r"^script: frames: .*, got true$"):
+            tear.Script({"version": 1, "frames": True})
+        with self.assertRaisesRegex(tear.BadInput, r"^script: snap: expected a number, got false$"):
+            tear.Script({"version": 1, "frames": 2, "snap": False})
+
+    def test_keys_that_are_not_strings(self):
+        with self.assertRaisesRegex(tear.BadInput, r'^script: \["1"\]: unknown key '):
+            tear.Script({"version": 1, "frames": 2, 1: 2})
+        with self.assertRaisesRegex(tear.BadInput, r'^script: \["\\u0000"\]: unknown key '):
+            tear.Script({"version": 1, "frames": 2, "\0": 2})
+        with self.assertRaises(TypeError):
+            tear.Script({"version": 1, "frames": 2, (1, 2): 3})
+
+    def test_deep_nesting(self):
+        for depth in (33, 500, 100000):
+            deep = []
+            for _ in range(depth):
+                deep = [deep]
+            with self.subTest(depth=depth):
+                with self.assertRaises((tear.BadInput, RecursionError)):
+                    tear.Script({"version": 1, "frames": 2, "cuts": deep})
+        text = '{"version": 1, "frames": 2, "cuts": ' + "[" * 100000 + "]" * 100000 + "}"
+        with self.assertRaisesRegex(tear.BadInput, r"^script: the cut script nests arrays and objects deeper than"):
+            tear.Script(text)
+
+    def test_not_an_object(self):
+        for data in (None, [], 2, "", "[]"):
+            with self.subTest(data=data):
+                with self.assertRaises(tear.BadInput):
+                    tear.Script(data)
+
+
+class Library(unittest.TestCase):
+    def test_refuses_a_library_of_other_headers(self):
+        # A libtear.so built from other headers than the module (an older build's, found first
+        # through LD_LIBRARY_PATH) corrupted memory at the first script handed across; the module
+        # refuses it on import instead. tear_wrong_layout, preloaded, plays that library's part.
+        stub = os.environ.get("TEAR_WRONG_LAYOUT_LIBRARY")
+        if not stub:
+            self.skipTest("TEAR_WRONG_LAYOUT_LIBRARY is not set (ctest sets it)")
+        env = dict(os.environ, LD_PRELOAD=(os.environ.get("LD_PRELOAD", "") + " " + stub).strip())
+        code = "import sys; sys.path.insert(0, %r); import tear" % MODULE_DIR
+        done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, env=env)
+        self.assertEqual(done.returncode, 1, done.stderr)
+        self.assertRegex(done.stderr, r"ImportError: tear: \S*libtear\.so was built from other headers than this "
+                                      r"module; rebuild both together, or check that LD_LIBRARY_PATH")
+        done = subprocess.run([sys.executable, "-c", code + "; tear.Script({'version': 1, 'frames': 1})"],
+                              capture_output=True, text=True)
+        self.assertEqual(done.returncode, 0, done.stderr)
 
 
 class ClothApi(Work):

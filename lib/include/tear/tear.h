@@ -13,6 +13,7 @@
 #include "tear/frame_path.h"
 #include "tear/frame_sink.h"
 #include "tear/input_file.h"
+#include "tear/layout.h"
 #include "tear/make_sheet.h"
 #include "tear/mesh.h"
 #include "tear/mesh_info.h"
