@@ -170,10 +170,9 @@ struct GridEntries {
   const std::uint64_t* keys;
   const index_t* items;
   index_t count;
-  index_t everywhere_begin;  ///< the first entry under `everywhere`
-  /// The first entry of `key` (or where it would be) among the cell entries.
-  TEAR_HD index_t lower_bound(std::uint64_t key) const {
-    index_t lo = 0, hi = everywhere_begin;
+  /// The first entry of `key` (or where it would be) among the first `end` entries.
+  TEAR_HD index_t lower_bound(std::uint64_t key, index_t end) const {
+    index_t lo = 0, hi = end;
     while (lo < hi) {
       const index_t mid = lo + (hi - lo) / 2;
       if (keys[mid] < key)
@@ -523,13 +522,14 @@ struct apply_contact_moves {
 };
 
 /// The entries of the node → moves CSR: slot 4i + j is keyed by pair i's vertex j when that is a
-/// free cloth node (else it has no key).
+/// free cloth node, else by `node_count` (a key past the nodes, which no node reads): every slot
+/// has a key, so the CSR's size is known without reading it back.
 struct ContactSlots {
   const CollisionPair* pairs;
   CollisionVertices x;
   TEAR_HD index_t key(index_t slot) const {
     const index_t v = pairs[slot / 4].v[slot % 4];
-    return x.w(v) > 0.0f ? v : -1;
+    return x.w(v) > 0.0f ? v : x.node_count;
   }
   TEAR_HD index_t value(index_t slot) const { return slot; }
 };
@@ -670,18 +670,21 @@ struct find_pairs {
     grid.cells(qb, lo, hi);
     for (int a = 0; a < 3; ++a) lo[a] = lo[a] > 0 ? lo[a] - 1 : 0;
     const std::int64_t cells = static_cast<std::int64_t>(hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
-    if (cells <= max_walk && cells <= entries.everywhere_begin) {
+    // The entries under `everywhere` come last.
+    const index_t everywhere_begin = entries.lower_bound(CollisionGrid::everywhere, entries.count);
+    if (cells <= max_walk && cells <= everywhere_begin) {
       for (std::int32_t k = lo[2]; k <= hi[2]; ++k)
         for (std::int32_t jj = lo[1]; jj <= hi[1]; ++jj)
           for (std::int32_t c = lo[0]; c <= hi[0]; ++c) {
             const std::uint64_t key = CollisionGrid::key(c, jj, k);
-            for (index_t j = entries.lower_bound(key); j < entries.everywhere_begin && entries.keys[j] == key; ++j)
+            for (index_t j = entries.lower_bound(key, everywhere_begin); j < everywhere_begin && entries.keys[j] == key;
+                 ++j)
               visit(j);
           }
     } else {
-      for (index_t j = 0; j < entries.everywhere_begin; ++j) visit(j);
+      for (index_t j = 0; j < everywhere_begin; ++j) visit(j);
     }
-    for (index_t j = entries.everywhere_begin; j < entries.count; ++j) visit(j);
+    for (index_t j = everywhere_begin; j < entries.count; ++j) visit(j);
     if (!offset) {
       count[i] = found;
       return;

@@ -22,7 +22,6 @@
 #include <utility>
 #include <vector>
 
-#include <thrust/binary_search.h>
 #include <thrust/copy.h>
 #include <thrust/count.h>
 #include <thrust/fill.h>
@@ -130,7 +129,7 @@ class CollisionJob {
       if (pairs == 0) break;
       const kernels::CollisionVertices x = vertices(cloth);
       build_csr_by_counting<System>(policy, kernels::ContactSlots{raw<kernels::CollisionPair>(pairs_), x}, 4 * pairs,
-                                    nodes, -1, tally_, slot_offset_, slots_);
+                                    nodes + 1, 4 * pairs, tally_, slot_offset_, slots_);
       resize_for_overwrite(moves_, 4 * static_cast<std::size_t>(pairs));
       const kernels::CollisionGeometry geometry{x, static_cast<float>(o.thickness)};
       for (int r = 0; r < o.iterations; ++r) {
@@ -231,9 +230,7 @@ class CollisionJob {
     for_each_index<System>(count, e);
     // Stable: within a cell the items stay in their order.
     thrust::stable_sort_by_key(policy, keys.begin(), keys.end(), items.begin());
-    const index_t everywhere = static_cast<index_t>(
-        thrust::lower_bound(policy, keys.begin(), keys.end(), kernels::CollisionGrid::everywhere) - keys.begin());
-    return {raw<std::uint64_t>(keys), raw<index_t>(items), count, everywhere};
+    return {raw<std::uint64_t>(keys), raw<index_t>(items), count};
   }
 
   /// The candidate pairs of the vertices' motion now, into `pairs_`; returns how many.
@@ -254,7 +251,7 @@ class CollisionJob {
     const bool edge_pairs = options_.collision.self || body_edge_count_ > 0;
     const kernels::GridEntries edge_entries = edge_pairs
                                                   ? enter(enter_edges, edges.cloth_count, edge_keys_, edge_items_)
-                                                  : kernels::GridEntries{nullptr, nullptr, 0, 0};
+                                                  : kernels::GridEntries{nullptr, nullptr, 0};
     const index_t queries = faces.count + (edge_pairs ? edges.count : 0);
     kernels::find_pairs find{x,
                              faces,
