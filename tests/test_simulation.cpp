@@ -205,7 +205,7 @@ TEST_CASE("simulation: every options error names the file and the key path", "[s
       {R"([])", "simulation: expected an object, got an empty array"},
       {R"({"dampning": 0.1})",
        "simulation.dampning: unknown key (expected fps, substeps, iterations, gravity, damping, density, "
-       "stretch_stiffness, bend_stiffness, chebyshev, pins, colliders or tearing)"},
+       "stretch_stiffness, bend_stiffness, chebyshev, pins, colliders, collision or tearing)"},
       {R"({"fps": 0})", "simulation.fps: expected a number in [0.1, 100000] (frames per second), got 0"},
       {R"({"fps": "24"})", "simulation.fps: expected a number in [0.1, 100000] (frames per second), got \"24\""},
       {R"({"substeps": 1.5})", "simulation.substeps: expected an integer in 1..10000, got 1.5"},

@@ -222,7 +222,7 @@ TEST_CASE("tearing: the bench's tear part times the pull scene's parts, and the 
   TempDir dir;
   const tear::test::Run bad = dir.tear("bench --device cpu --only tears --repeats 1 --warmup 0");
   CHECK(bad.exit_code == 1);
-  CHECK(bad.err.find("expected remesh, pd, scene, tear or io") != std::string::npos);
+  CHECK(bad.err.find("expected remesh, pd, scene, tear, collide or io") != std::string::npos);
 }
 
 TEST_CASE("tearing: the keys are read with their defaults", "[tearing]") {
