@@ -87,6 +87,16 @@ void write_sheet(const TempDir& dir) {
   dir.file("cut.json", cut_script);
 }
 
+/// A glTF 1.0 of one triangle whose buffer is at `uri`: tear's glTF reader reads 2.0 only and
+/// hands 1.0 to assimp, whose importer opens the buffer's file itself.
+std::string triangle_gltf1(const std::string& uri) {
+  return R"({"asset": {"version": "1.0"}, "buffers": {"b": {"uri": ")" + uri + R"(", "byteLength": 36}},
+    "bufferViews": {"bv": {"buffer": "b", "byteOffset": 0, "byteLength": 36, "target": 34962}},
+    "accessors": {"acc": {"bufferView": "bv", "byteOffset": 0, "componentType": 5126, "count": 3, "type": "VEC3"}},
+    "meshes": {"m": {"primitives": [{"attributes": {"POSITION": "acc"}, "mode": 4}]}},
+    "nodes": {"n": {"meshes": ["m"]}}, "scenes": {"s": {"nodes": ["n"]}}, "scene": "s"})";
+}
+
 }  // namespace
 
 TEST_CASE("glTF: a buffer or image uri may only name a regular file in the glTF's folder or below", "[hostile][cli]") {
@@ -129,6 +139,62 @@ TEST_CASE("glTF: a buffer or image uri may only name a regular file in the glTF'
   const Run length = timed_tear(dir, "info asset/length.gltf");
   check_refused(length, 2, "buffer 0: its file does not have the buffer's byteLength of 40 bytes");
   CHECK(length.err.find("36") == std::string::npos);
+}
+
+TEST_CASE("assimp: the files a mesh names are opened only inside its folder", "[hostile][cli]") {
+  // Outside the mesh's folder: FIFOs nobody writes to, so that opening one hangs the read (the
+  // 60 s guard of `timed_tear` then fails the test), and a secret.
+  TempDir dir;
+  fs::create_directory(dir / "asset");
+  fs::create_directory(dir / "asset" / "inner");
+  REQUIRE(::mkfifo((dir / "outside.bin").c_str(), 0600) == 0);
+  REQUIRE(::mkfifo((dir / "outside.mtl").c_str(), 0600) == 0);
+  REQUIRE(::mkfifo((dir / "asset" / "fifo.bin").c_str(), 0600) == 0);
+  dir.file("secret.bin", triangle_buffer());
+  dir.file("asset/ok.bin", triangle_buffer());
+  dir.file("asset/inner/deep.bin", triangle_buffer());
+  fs::create_symlink("../outside.bin", dir / "asset" / "out.bin");
+  fs::create_symlink("../secret.bin", dir / "asset" / "secret.bin");
+  const std::string outside = (dir / "outside.bin").string();
+
+  // A glTF 1.0 (read by assimp): its buffer beside it or below it is read.
+  for (const std::string uri : {"ok.bin", "inner/deep.bin"}) {
+    dir.file("asset/good.gltf", triangle_gltf1(uri));
+    const Run run = timed_tear(dir, "info asset/good.gltf --json");
+    INFO(uri << ": " << run.err);
+    CHECK(run.exit_code == 0);
+  }
+  // Up, absolute, through a link out of the folder, a FIFO inside: never opened; exit 2 naming the glTF.
+  for (const std::string& uri : {std::string("../outside.bin"), std::string("inner/../../outside.bin"), outside,
+                                 std::string("out.bin"), std::string("fifo.bin"), std::string("secret.bin"),
+                                 std::string("/etc/passwd")}) {
+    dir.file("asset/bad.gltf", triangle_gltf1(uri));
+    INFO(uri);
+    const Run run = timed_tear(dir, "info asset/bad.gltf");
+    check_refused(run, 2, "asset/bad.gltf: cannot be read without ");
+    CHECK(run.err.find("not opened") != std::string::npos);
+  }
+  // A run reads the mesh the same way: refused before anything is written.
+  dir.file("asset/bad.gltf", triangle_gltf1("../outside.bin"));
+  dir.file("cut.json", cut_script);
+  check_refused(timed_tear(dir, "run asset/bad.gltf cut.json -o out/f.####.obj"), 2, "asset/bad.gltf: ");
+  CHECK_FALSE(fs::exists(dir / "out"));
+
+  // An OBJ under another extension is read by assimp, whose OBJ importer opens its material
+  // library: one outside the folder is skipped (never opened), and the mesh is read without it.
+  for (const std::string& library : std::vector<std::string>{"../outside.mtl", (dir / "outside.mtl").string()}) {
+    dir.file("asset/sheet.txt", "mtllib " + library + "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl cloth\nf 1 2 3\n");
+    const Run run = timed_tear(dir, "info asset/sheet.txt --json");
+    INFO(library << ": " << run.err);
+    CHECK(run.exit_code == 0);
+    CHECK(run.out.find("\"faces\":1,") != std::string::npos);
+  }
+  // The mesh's own size limit holds for the files it names.
+  dir.file("asset/big.bin", triangle_buffer() + std::string(50000, '\0'));
+  dir.file("asset/big.gltf", triangle_gltf1("big.bin"));
+  CHECK(timed_tear(dir, "info asset/big.gltf --json").exit_code == 0);
+  check_refused(timed_tear(dir, "info asset/big.gltf --max-input-bytes 10000"), 2,
+                "asset/big.gltf: cannot be read without big.bin, which it names: larger than --max-input-bytes");
 }
 
 TEST_CASE("glTF: a bad data uri is not echoed whole, and instancing is bounded by --max-faces", "[hostile][cli]") {
