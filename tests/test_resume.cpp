@@ -208,7 +208,7 @@ TEST_CASE("resume: a single USD layer cannot be checkpointed, one layer per fram
   CHECK(fs::exists(dir / "shot.0002.usda"));
 }
 
-TEST_CASE("resume: SIGTERM inside a long frame stops it there; resumed, the bytes are those of a run never stopped",
+TEST_CASE("resume: SIGTERM inside a long frame stops it there, and the resumed frames are those of a run never stopped",
           "[resume]") {
   // Frames of 10,000 solver iterations (20 substeps of 500) on 3,200 faces: seconds each. The
   // signal lands a quarter of a frame into frame 3 (frame 1's file appears as frame 3 begins: a
