@@ -190,7 +190,7 @@ double min_face_angle_deg(const std::vector<index_t>& face_nodes, const std::vec
 
 void check_cuttable(const Mesh& mesh, const std::string& mesh_path, Device device) {
   const MeshReport report = validate_mesh(mesh, device);
-  if (!report.ok()) throw input_error(mesh_path, "cannot be cut: " + report.describe());
+  if (!report.cuttable()) throw input_error(mesh_path, "cannot be cut: " + report.describe());
 }
 
 void check_run_inputs(const CutScript& script, const Mesh& mesh, const std::string& mesh_path, Device device) {
