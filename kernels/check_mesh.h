@@ -56,6 +56,42 @@ struct face_degenerate {
   }
 };
 
+/// A face that `face_degenerate` at `thin_ratio` passes but whose height is at most `steps`
+/// single-precision steps at its largest coordinate M (a step there is at most M 2^-23): twice
+/// its area at most steps M 2^-23 times its longest edge. Example: nodes (0.25, 0, 0), (0.5,
+/// 0.75, 0), (1, 0.25, 3333330): M = 3333330, where a step is at most 0.397; the height, 0.79, is
+/// 2 steps (and 2.4e-7 of the longest edge, over the thin ratio 1e-7): imprecise.
+struct face_imprecise {
+  const float* node_pos;
+  const index_t* face_nodes;
+  double thin_ratio;
+  double steps;
+  TEAR_HD int operator()(index_t f) const {
+    if (face_degenerate{node_pos, face_nodes, thin_ratio}(f)) return 0;  // thin or degenerate already
+    const index_t n[3] = {face_nodes[3 * f], face_nodes[3 * f + 1], face_nodes[3 * f + 2]};
+    double largest = 0;
+    for (int k = 0; k < 3; ++k)
+      for (int d = 0; d < 3; ++d) {
+        const double x = node_pos[3 * n[k] + d];
+        largest = (x < 0 ? -x : x) > largest ? (x < 0 ? -x : x) : largest;
+      }
+    double u[3], v[3], w[3];
+    for (int d = 0; d < 3; ++d) {
+      u[d] = double(node_pos[3 * n[1] + d]) - node_pos[3 * n[0] + d];
+      v[d] = double(node_pos[3 * n[2] + d]) - node_pos[3 * n[0] + d];
+      w[d] = v[d] - u[d];
+    }
+    const double cx = u[1] * v[2] - u[2] * v[1], cy = u[2] * v[0] - u[0] * v[2], cz = u[0] * v[1] - u[1] * v[0];
+    const double area2_sq = cx * cx + cy * cy + cz * cz;
+    double longest = u[0] * u[0] + u[1] * u[1] + u[2] * u[2];
+    const double lv = v[0] * v[0] + v[1] * v[1] + v[2] * v[2], lw = w[0] * w[0] + w[1] * w[1] + w[2] * w[2];
+    longest = lv > longest ? lv : longest;
+    longest = lw > longest ? lw : longest;
+    const double height = steps * largest * (1.0 / 8388608.0);  // steps * M * 2^-23
+    return area2_sq <= height * height * longest ? 1 : 0;
+  }
+};
+
 /// A face on the same three nodes as another face, in either order. Two such faces oppositely
 /// oriented pass every other check (each of their edges has two consistently oriented faces) but
 /// close a surface of no volume: a cut through it separates the two faces along the cut and

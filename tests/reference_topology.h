@@ -113,6 +113,30 @@ inline bool reference_face_degenerate(const Mesh& mesh, index_t f, double ratio 
   return area2_sq <= ratio * ratio * longest_sq * longest_sq;
 }
 
+/// Whether face `f`'s height is at most `imprecise_steps` single-precision steps at its largest
+/// coordinate M (a step at most M 2^-23), by its height h = twice its area over its longest edge.
+inline bool reference_face_imprecise(const Mesh& mesh, index_t f) {
+  double p[3][3], largest = 0;
+  for (int k = 0; k < 3; ++k)
+    for (int d = 0; d < 3; ++d) {
+      p[k][d] = mesh.node_pos[3 * mesh.face_nodes[3 * f + k] + d];
+      largest = std::max(largest, std::abs(p[k][d]));
+    }
+  double u[3], v[3], longest_sq = 0;
+  for (int d = 0; d < 3; ++d) {
+    u[d] = p[1][d] - p[0][d];
+    v[d] = p[2][d] - p[0][d];
+  }
+  for (int k = 0; k < 3; ++k) {
+    double sq = 0;
+    for (int d = 0; d < 3; ++d) sq += (p[(k + 1) % 3][d] - p[k][d]) * (p[(k + 1) % 3][d] - p[k][d]);
+    longest_sq = std::max(longest_sq, sq);
+  }
+  const double cross[3] = {u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]};
+  const double twice_area = std::sqrt(cross[0] * cross[0] + cross[1] * cross[1] + cross[2] * cross[2]);
+  return twice_area <= imprecise_steps * largest * std::ldexp(1.0, -23) * std::sqrt(longest_sq);
+}
+
 /// All counts of `validate_mesh`, from `reference_topology`. As the device code does, nothing past
 /// the index checks when an index is out of range, and no degenerate faces judged on non-finite
 /// coordinates.
@@ -125,6 +149,7 @@ inline MeshReport reference_validate_mesh(const Mesh& mesh) {
     for (index_t f = 0; f < mesh.face_count(); ++f) {
       report.degenerate_faces += reference_face_degenerate(mesh, f) ? 1 : 0;
       report.thin_faces += !reference_face_degenerate(mesh, f) && reference_face_degenerate(mesh, f, thin_area_ratio);
+      report.imprecise_faces += !reference_face_degenerate(mesh, f, thin_area_ratio) && reference_face_imprecise(mesh, f);
     }
 
   // Directed half-edges of each edge: half-edge 3 f + k runs from local node k+1 to local node k+2.
@@ -224,7 +249,8 @@ inline std::string report_counts(const MeshReport& r) {
   out << "indices_out_of_range " << r.indices_out_of_range << ", non_finite_nodes " << r.non_finite_nodes
       << ", degenerate_faces " << r.degenerate_faces << ", non_manifold_edges " << r.non_manifold_edges
       << ", non_manifold_nodes " << r.non_manifold_nodes << ", inconsistent_edges " << r.inconsistent_edges
-      << ", duplicate_faces " << r.duplicate_faces << ", thin_faces " << r.thin_faces;
+      << ", duplicate_faces " << r.duplicate_faces << ", thin_faces " << r.thin_faces << ", imprecise_faces "
+      << r.imprecise_faces;
   return out.str();
 }
 

@@ -12,6 +12,8 @@
 #include <cstdint>
 #include <cstring>
 #include <limits>
+#include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -87,6 +89,81 @@ void write_sheet(const TempDir& dir) {
   dir.file("cut.json", cut_script);
 }
 
+/// A glTF 1.0 of one triangle whose buffer is at `uri`: tear's glTF reader reads 2.0 only and
+/// hands 1.0 to assimp, whose importer opens the buffer's file itself.
+std::string triangle_gltf1(const std::string& uri) {
+  return R"({"asset": {"version": "1.0"}, "buffers": {"b": {"uri": ")" + uri + R"(", "byteLength": 36}},
+    "bufferViews": {"bv": {"buffer": "b", "byteOffset": 0, "byteLength": 36, "target": 34962}},
+    "accessors": {"acc": {"bufferView": "bv", "byteOffset": 0, "componentType": 5126, "count": 3, "type": "VEC3"}},
+    "meshes": {"m": {"primitives": [{"attributes": {"POSITION": "acc"}, "mode": 4}]}},
+    "nodes": {"n": {"meshes": ["m"]}}, "scenes": {"s": {"nodes": ["n"]}}, "scene": "s"})";
+}
+
+/// True when the tests run as root, where file permissions stop nothing and only tear's own checks
+/// keep the files outside the named outputs as they are (CI runs as root). Not root: false, with a
+/// warning that `what` was not tested, and a failure under TEAR_REQUIRE_ROOT=1 (CI's setting).
+bool running_as_root(const std::string& what) {
+  if (::geteuid() == 0) return true;
+  const char* required = std::getenv("TEAR_REQUIRE_ROOT");
+  if (required != nullptr && std::string(required) == "1")
+    FAIL("TEAR_REQUIRE_ROOT=1, but the tests run as uid " << ::geteuid() << ": " << what << " is not tested");
+  WARN("not root: " << what << " is not tested");
+  return false;
+}
+
+/// What a file is, links not followed: its kind and mode, and for a regular file its bytes and
+/// modification time, for a link its target (a FIFO or device is never opened).
+struct FileState {
+  unsigned mode = 0;
+  std::int64_t mtime_ns = 0;
+  std::string content;
+  bool operator==(const FileState& o) const { return mode == o.mode && mtime_ns == o.mtime_ns && content == o.content; }
+};
+
+FileState file_state(const fs::path& path) {
+  struct stat s {};
+  if (::lstat(path.c_str(), &s) != 0) return {};
+  FileState state;
+  state.mode = s.st_mode;
+  if (S_ISREG(s.st_mode)) {
+    state.mtime_ns = std::int64_t(s.st_mtim.tv_sec) * 1000000000 + s.st_mtim.tv_nsec;
+    state.content = tear::test::read_bytes(path);
+  } else if (S_ISLNK(s.st_mode)) {
+    state.content = fs::read_symlink(path).string();
+  }
+  return state;
+}
+
+/// Every file and folder below `root` (relative paths), links not followed. A folder's own time
+/// is left out: the test's runs create and remove their captured output beside the files.
+std::map<std::string, FileState> snapshot(const fs::path& root) {
+  std::map<std::string, FileState> files;
+  for (const auto& entry : fs::recursive_directory_iterator(root)) {
+    FileState state = file_state(entry.path());
+    if (S_ISDIR(state.mode)) state.mtime_ns = 0;
+    files[fs::relative(entry.path(), root).string()] = state;
+  }
+  return files;
+}
+
+/// The paths whose state differs between `before` and `after` (made, removed or changed), less
+/// `allowed` (the named outputs) and the folders above them.
+std::vector<std::string> changed_files(const std::map<std::string, FileState>& before,
+                                       const std::map<std::string, FileState>& after,
+                                       const std::vector<std::string>& allowed) {
+  std::set<std::string> named;
+  for (const std::string& path : allowed)
+    for (fs::path p = path; !p.empty(); p = p.parent_path()) named.insert(p.string());
+  std::vector<std::string> changed;
+  for (const auto& [path, state] : before) {
+    const auto now = after.find(path);
+    if ((now == after.end() || !(now->second == state)) && !named.count(path)) changed.push_back(path);
+  }
+  for (const auto& [path, state] : after)
+    if (!before.count(path) && !named.count(path)) changed.push_back(path);
+  return changed;
+}
+
 }  // namespace
 
 TEST_CASE("glTF: a buffer or image uri may only name a regular file in the glTF's folder or below", "[hostile][cli]") {
@@ -129,6 +206,62 @@ TEST_CASE("glTF: a buffer or image uri may only name a regular file in the glTF'
   const Run length = timed_tear(dir, "info asset/length.gltf");
   check_refused(length, 2, "buffer 0: its file does not have the buffer's byteLength of 40 bytes");
   CHECK(length.err.find("36") == std::string::npos);
+}
+
+TEST_CASE("assimp: the files a mesh names are opened only inside its folder", "[hostile][cli]") {
+  // Outside the mesh's folder: FIFOs nobody writes to, so that opening one hangs the read (the
+  // 60 s guard of `timed_tear` then fails the test), and a secret.
+  TempDir dir;
+  fs::create_directory(dir / "asset");
+  fs::create_directory(dir / "asset" / "inner");
+  REQUIRE(::mkfifo((dir / "outside.bin").c_str(), 0600) == 0);
+  REQUIRE(::mkfifo((dir / "outside.mtl").c_str(), 0600) == 0);
+  REQUIRE(::mkfifo((dir / "asset" / "fifo.bin").c_str(), 0600) == 0);
+  dir.file("secret.bin", triangle_buffer());
+  dir.file("asset/ok.bin", triangle_buffer());
+  dir.file("asset/inner/deep.bin", triangle_buffer());
+  fs::create_symlink("../outside.bin", dir / "asset" / "out.bin");
+  fs::create_symlink("../secret.bin", dir / "asset" / "secret.bin");
+  const std::string outside = (dir / "outside.bin").string();
+
+  // A glTF 1.0 (read by assimp): its buffer beside it or below it is read.
+  for (const std::string uri : {"ok.bin", "inner/deep.bin"}) {
+    dir.file("asset/good.gltf", triangle_gltf1(uri));
+    const Run run = timed_tear(dir, "info asset/good.gltf --json");
+    INFO(uri << ": " << run.err);
+    CHECK(run.exit_code == 0);
+  }
+  // Up, absolute, through a link out of the folder, a FIFO inside: never opened; exit 2 naming the glTF.
+  for (const std::string& uri : {std::string("../outside.bin"), std::string("inner/../../outside.bin"), outside,
+                                 std::string("out.bin"), std::string("fifo.bin"), std::string("secret.bin"),
+                                 std::string("/etc/passwd")}) {
+    dir.file("asset/bad.gltf", triangle_gltf1(uri));
+    INFO(uri);
+    const Run run = timed_tear(dir, "info asset/bad.gltf");
+    check_refused(run, 2, "asset/bad.gltf: cannot be read without ");
+    CHECK(run.err.find("not opened") != std::string::npos);
+  }
+  // A run reads the mesh the same way: refused before anything is written.
+  dir.file("asset/bad.gltf", triangle_gltf1("../outside.bin"));
+  dir.file("cut.json", cut_script);
+  check_refused(timed_tear(dir, "run asset/bad.gltf cut.json -o out/f.####.obj"), 2, "asset/bad.gltf: ");
+  CHECK_FALSE(fs::exists(dir / "out"));
+
+  // An OBJ under another extension is read by assimp, whose OBJ importer opens its material
+  // library: one outside the folder is skipped (never opened), and the mesh is read without it.
+  for (const std::string& library : std::vector<std::string>{"../outside.mtl", (dir / "outside.mtl").string()}) {
+    dir.file("asset/sheet.txt", "mtllib " + library + "\nv 0 0 0\nv 1 0 0\nv 0 1 0\nusemtl cloth\nf 1 2 3\n");
+    const Run run = timed_tear(dir, "info asset/sheet.txt --json");
+    INFO(library << ": " << run.err);
+    CHECK(run.exit_code == 0);
+    CHECK(run.out.find("\"faces\":1,") != std::string::npos);
+  }
+  // The mesh's own size limit holds for the files it names.
+  dir.file("asset/big.bin", triangle_buffer() + std::string(50000, '\0'));
+  dir.file("asset/big.gltf", triangle_gltf1("big.bin"));
+  CHECK(timed_tear(dir, "info asset/big.gltf --json").exit_code == 0);
+  check_refused(timed_tear(dir, "info asset/big.gltf --max-input-bytes 10000"), 2,
+                "asset/big.gltf: cannot be read without big.bin, which it names: larger than --max-input-bytes");
 }
 
 TEST_CASE("glTF: a bad data uri is not echoed whole, and instancing is bounded by --max-faces", "[hostile][cli]") {
@@ -179,7 +312,10 @@ TEST_CASE("outputs: a FIFO, device, folder or symbolic link at an output path is
   fs::create_symlink("victim.txt", dir / "link.json");
   std::vector<std::string> targets = {"fifo", "folder", "link.json"};
   // A character device of our own (the numbers of /dev/null), where the tests may make one (root).
-  if (::mknod((dir / "device").c_str(), S_IFCHR | 0600, ::makedev(1, 3)) == 0) targets.push_back("device");
+  if (running_as_root("a device node at an output path")) {
+    REQUIRE(::mknod((dir / "device").c_str(), S_IFCHR | 0600, ::makedev(1, 3)) == 0);
+    targets.push_back("device");
+  }
   for (const std::string& target : targets) {
     for (const std::string option : {"--report", "--checkpoint"}) {
       INFO(option << " " << target);
@@ -201,6 +337,71 @@ TEST_CASE("outputs: a FIFO, device, folder or symbolic link at an output path is
   REQUIRE(::lstat((dir / "link.json").c_str(), &s) == 0);
   CHECK(S_ISLNK(s.st_mode));
   CHECK(tear::test::read_bytes(dir / "victim.txt") == "keep me");
+}
+
+TEST_CASE("outputs: hostile paths change no file but the named outputs, as root too", "[hostile][cli][root]") {
+  // As root, no permission stands between tear and any file: what is checked here is tear's own
+  // rules (refuse devices, FIFOs and links at output paths, never write through a link at a
+  // temporary name, never read outside a mesh's folder), file by file over the whole test folder.
+  const bool root = running_as_root("writing as root past hostile paths");
+  TempDir dir;
+  write_sheet(dir);
+  fs::create_directory(dir / "sentinel");
+  dir.file("sentinel/keep.txt", "keep me");
+  ::chmod((dir / "sentinel" / "keep.txt").c_str(), 0444);  // read-only: stops a user, not root
+  fs::create_symlink("sentinel/keep.txt", dir / "link.json");
+  fs::create_directory(dir / "asset");
+  fs::create_directory(dir / "out");
+  // Links planted at temporary names of the frames and the report, both spellings, one to a folder.
+  const std::vector<std::string> planted = {"out/.f.0001.obj.tmp.1", "out/.f.0001.obj.tmp.999999999.0123456789abcdef",
+                                            "out/.f.0002.obj.tmp.999999999", "out/.r.json.tmp.1.00000000000000ff"};
+  for (const std::string& link : planted) fs::create_symlink("../sentinel/keep.txt", dir / link);
+  fs::create_symlink("../sentinel", dir / "out/.f.0002.obj.tmp.1.0123456789abcdef");
+  // A device node: our own where we may make one (root), else the system's /dev/null (which a
+  // user cannot replace anyway).
+  std::string device = "/dev/null";
+  if (root) {
+    REQUIRE(::mknod((dir / "device").c_str(), S_IFCHR | 0666, ::makedev(1, 3)) == 0);
+    device = "device";
+  }
+  // glTF uris to /etc/passwd: read by tear's reader (glTF 2.0), and by assimp's (glTF 1.0).
+  dir.file("asset/passwd.gltf", triangle_gltf("/etc/passwd"));
+  dir.file("asset/assimp.gltf", triangle_gltf1("/etc/passwd"));
+  dir.file("asset/up.gltf", triangle_gltf1("../sentinel/keep.txt"));
+  const FileState passwd = file_state("/etc/passwd");
+
+  struct Case {
+    std::string args;
+    int exit_code;
+    std::vector<std::string> outputs;  // the named outputs, which may change
+  };
+  const std::string run = "run sheet.obj cut.json -o out/f.####.obj";
+  const std::vector<Case> cases = {
+      {run + " --report " + device, 2, {}},
+      {run + " --report link.json", 2, {}},
+      {run + " --checkpoint link.json", 2, {}},
+      {run + " --report sentinel", 2, {}},
+      {"run asset/passwd.gltf cut.json -o out/g.####.obj --report out/g.json", 2, {}},
+      {"run asset/assimp.gltf cut.json -o out/g.####.obj --report out/g.json", 2, {}},
+      {"info asset/assimp.gltf", 2, {}},
+      {"info asset/up.gltf", 2, {}},
+      {run + " --report out/r.json --checkpoint out/c.ckpt", 0, {"out/f.0001.obj", "out/f.0002.obj", "out/r.json", "out/c.ckpt"}},
+  };
+  for (const Case& c : cases) {
+    const auto before = snapshot(dir.path);
+    const Run result = timed_tear(dir, c.args);
+    INFO(c.args << "\nstderr: " << result.err);
+    CHECK(result.exit_code == c.exit_code);
+    CHECK(changed_files(before, snapshot(dir.path), c.outputs).empty());
+  }
+  CHECK(tear::test::read_bytes(dir / "sentinel" / "keep.txt") == "keep me");
+  for (const std::string& link : planted) CHECK(fs::is_symlink(dir / link));
+  CHECK(file_state("/etc/passwd") == passwd);
+  if (root) {
+    struct stat s {};
+    REQUIRE(::lstat((dir / "device").c_str(), &s) == 0);
+    CHECK(S_ISCHR(s.st_mode));
+  }
 }
 
 TEST_CASE("outputs: temporaries are fresh files under random names, never written through a planted link",

@@ -248,6 +248,7 @@ TEST_CASE("mesh_info: json has exactly the documented keys", "[info]") {
                                           "duplicate_faces",
                                           "sliver_faces",
                                           "thin_faces",
+                                          "imprecise_faces",
                                           "area",
                                           "has_uv",
                                           "has_normals",

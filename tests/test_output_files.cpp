@@ -1,6 +1,8 @@
 // Outputs before a command writes them: no output may be an input, folders must be writable, and
 // the temporary files of killed runs are cleared; through the library and through the binary.
+#include <fcntl.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -145,6 +147,80 @@ TEST_CASE("output_files: temporaries of runs that are gone are removed, nothing 
   CHECK(names_in(dir / "out") == kept);
   // A bare file name lives in the current folder; a missing folder is no error.
   CHECK(tear::remove_stale_temporaries({(dir / "nowhere/f.obj").string(), ""}) == 0);
+}
+
+TEST_CASE("output_files: a temporary is removed only when no one holds its lock, whatever its process id",
+          "[outputs]") {
+  TempDir dir;
+  fs::create_directory(dir / "out");
+  const std::string out = (dir / "out").string();
+  // Names of this tear's spelling. The process ids say nothing: another host's job may run under
+  // a pid that is gone here, and a pid that runs here may be another host's abandoned job.
+  const std::string alive = std::to_string(::getppid()), gone = "999999999";
+  const std::string held_by_child = ".f.0001.obj.tmp." + gone + ".00000000000000aa";
+  const std::string abandoned_alive = ".f.0001.obj.tmp." + alive + ".00000000000000bb";
+  const std::string abandoned_gone = ".f.0002.obj.tmp." + gone + ".00000000000000cc";
+  for (const std::string& name : {held_by_child, abandoned_alive, abandoned_gone}) dir.file("out/" + name, "partial");
+
+  // Another process holds a lock on one of them, as a writer on another host would (a POSIX
+  // record lock: what an NFS server passes between hosts). The child makes system calls only.
+  int ready[2], release[2];
+  REQUIRE(::pipe(ready) == 0);
+  REQUIRE(::pipe(release) == 0);
+  const std::string held_path = out + "/" + held_by_child;
+  const pid_t child = ::fork();
+  REQUIRE(child >= 0);
+  if (child == 0) {
+    ::close(ready[0]);
+    ::close(release[1]);
+    const int fd = ::open(held_path.c_str(), O_RDWR);
+    struct flock lock {};
+    lock.l_type = F_WRLCK;
+    lock.l_whence = SEEK_SET;
+    char byte = fd >= 0 && ::fcntl(fd, F_SETLK, &lock) == 0 ? 'y' : 'n';
+    if (::write(ready[1], &byte, 1) != 1) ::_exit(1);
+    const ssize_t released = ::read(release[0], &byte, 1);  // until the parent is done, or gone
+    ::_exit(released < 0 ? 1 : 0);
+  }
+  ::close(ready[1]);
+  ::close(release[0]);
+  char locked = 0;
+  REQUIRE(::read(ready[0], &locked, 1) == 1);
+  ::close(ready[0]);
+  REQUIRE(locked == 'y');
+
+  // This process writes a temporary of its own meanwhile: created locked, kept locked while open.
+  std::string own;
+  const int own_fd = tear::create_temporary_file(out + "/f.0003.obj", "", own);
+  REQUIRE(own_fd >= 0);
+
+  const std::vector<std::string> targets = {out + "/f.0001.obj", out + "/f.0002.obj", out + "/f.0003.obj"};
+  CHECK(tear::remove_stale_temporaries(targets) == 2);
+  std::vector<std::string> kept = {held_by_child, fs::path(own).filename().string()};
+  std::sort(kept.begin(), kept.end());
+  CHECK(names_in(dir / "out") == kept);
+
+  // Once the child is gone and this process's file is closed, both are abandoned.
+  ::close(release[1]);
+  int status = 0;
+  REQUIRE(::waitpid(child, &status, 0) == child);
+  CHECK(tear::remove_stale_temporaries(targets) == 1);
+  CHECK(names_in(dir / "out") == std::vector<std::string>{fs::path(own).filename().string()});
+  ::close(own_fd);
+  CHECK(tear::remove_stale_temporaries(targets) == 1);
+  CHECK(names_in(dir / "out").empty());
+}
+
+TEST_CASE("output_files: a staged file stays locked until it is renamed", "[outputs]") {
+  TempDir dir;
+  const std::string target = (dir / "f.obj").string();
+  tear::TemporaryFile staged = tear::write_temporary_file(target, "frame");
+  // Another run's cleanup, between the write and the rename, leaves it alone.
+  CHECK(tear::remove_stale_temporaries({target}) == 0);
+  REQUIRE(fs::exists(staged.temporary));
+  tear::commit_temporary_file(staged);
+  CHECK(read_bytes(dir / "f.obj") == "frame");
+  CHECK(names_in(dir.path) == std::vector<std::string>{"f.obj"});
 }
 
 TEST_CASE("run: an output that is an input is refused before anything is written", "[outputs][cli]") {

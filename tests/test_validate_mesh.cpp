@@ -260,6 +260,31 @@ TEST_CASE("validate_mesh: faces on the same three nodes", "[validate]") {
   CHECK(validate(make_mesh({0, 0, 0, 1, 0, 0}, {0, 0, 1, 0, 1, 0})).duplicate_faces == 0);
 }
 
+TEST_CASE("validate_mesh: faces too thin for single precision at their coordinates are not cut", "[validate]") {
+  // The fuzz finding: a sliver 0.79 wide reaching a node 3.3e6 away, where float32 has steps of
+  // 0.25 (at most 0.397): 2.4e-7 of its longest edge, over the thin limit, but 2 steps. Two cuts
+  // left faces of 0.32 of a step, too thin to cut.
+  const auto far = make_mesh({0.25f, 0, 0, 1, 0, 0, 0.5f, 0.75f, 0, 1, 0.25f, 3333330.0f}, {0, 1, 2, 0, 2, 3});
+  const tear::MeshReport report = validate(far);
+  CHECK(report.thin_faces == 0);
+  CHECK(report.imprecise_faces == 1);
+  CHECK(report.ok());
+  CHECK_FALSE(report.cuttable());
+  CHECK(mentions(report, "1 face too thin for single precision at its coordinates (height under 8 float32 steps"));
+  CHECK(tear::test::report_counts(report) == tear::test::report_counts(tear::test::reference_validate_mesh(far)));
+  // The 0.0003 degree sliver of the unit square below is cut at the origin; moved 1000 away, where a
+  // step is 6e-5, its 3e-6 height is under one: not cut.
+  for (const auto& [offset, imprecise] : {std::pair{0.0f, 0}, std::pair{1000.0f, 1}}) {
+    const auto m = make_mesh({offset, 0, 0, offset + 1, 0, 0, offset + 1, 1, 0, offset, 1, 0, offset + 0.5f, 3e-6f, 0},
+                             {0, 1, 4, 1, 2, 4, 2, 3, 4, 3, 0, 4});
+    const tear::MeshReport moved = validate(m);
+    INFO("offset " << offset);
+    CHECK(moved.imprecise_faces == imprecise);
+    CHECK(moved.cuttable() == (imprecise == 0));
+    CHECK(tear::test::report_counts(moved) == tear::test::report_counts(tear::test::reference_validate_mesh(m)));
+  }
+}
+
 TEST_CASE("validate_mesh: faces too thin to cut in single precision", "[validate]") {
   // A unit square's bottom side with a node above its middle at 3e-6 (a 0.0003 degree sliver: cut,
   // with a warning) and at 3e-9 (twice the area 3e-9 of the longest edge squared: a cut point on it

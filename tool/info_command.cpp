@@ -68,6 +68,7 @@ void print_human(std::ostream& out, const std::string& path, Device device, cons
       {"inconsistent edges", count_why(info.inconsistent_edges, "neighbouring faces of opposite orientation")},
       {"duplicate faces", count_why(info.duplicate_faces, "on the same three nodes as another face")},
       {"thin faces", count_why(info.thin_faces, "too thin to cut: height under 1e-7 of the longest edge")},
+      {"imprecise faces", count_why(info.imprecise_faces, "too thin to cut at their coordinates: height under 8 float32 steps there")},
       {"area", format_number(info.area)},
       {"min angle", info.faces ? format_number(info.min_angle_deg) + " deg" : "n/a"},
       {"sliver faces", info.sliver_faces ? std::to_string(info.sliver_faces) + " (an angle under " +
@@ -78,7 +79,7 @@ void print_human(std::ostream& out, const std::string& path, Device device, cons
       {"normals", yes_no(info.has_normals)},
       {"bbox min", format_point(info.bbox_min)},
       {"bbox max", format_point(info.bbox_max)},
-      {"cuttable", !report.ok()          ? "no: " + report.describe()
+      {"cuttable", !report.cuttable()    ? "no: " + report.describe()
                    : info.sliver_faces ? "yes, with " + std::to_string(info.sliver_faces) +
                                              (info.sliver_faces == 1 ? " sliver face" : " sliver faces") +
                                              " (warning: see above)"

@@ -2,6 +2,7 @@
 #pragma once
 
 #include <array>
+#include <csignal>
 #include <cstdint>
 #include <memory>
 #include <string>
@@ -136,6 +137,14 @@ class Cloth {
   /// The same for frame `frame` (>= 1, as a script counts), whose substeps the keys of pins and
   /// colliders are evaluated at; later `step` calls go on from it.
   void step_frame(int frame);
+  /// The same, stopping early once `*stop` is non-zero (a signal handler sets it): it is looked at
+  /// before every substep, so a stop lands within about a substep however long the frame (work
+  /// queued on a GPU is waited for in chunks of substeps that take at least 50 ms, so a stop waits
+  /// for at most about twice that and a substep). The substeps are the same work as a whole
+  /// frame's, so the bytes are the same. Returns true when the frame was stepped whole; false when
+  /// it stopped between substeps, the cloth then part way through the frame, a state of no frame
+  /// (a run drops it, and that frame is computed again on resume). `stop` null: `step_frame(frame)`.
+  bool step_frame(int frame, const volatile std::sig_atomic_t* stop);
   /// What tearing did in the last step (zeros without `tearing` or before the first step). With
   /// tearing the step checks the cloth after every substep, which waits for the backend there.
   TearStats last_tear() const;

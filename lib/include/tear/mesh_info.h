@@ -41,6 +41,7 @@ struct MeshInfo {
   std::int64_t inconsistent_edges = 0;    ///< two-face edges with opposite orientations (from MeshReport)
   std::int64_t duplicate_faces = 0;       ///< faces on the same three nodes as another face (from MeshReport)
   std::int64_t thin_faces = 0;            ///< faces too thin to cut, not degenerate (from MeshReport)
+  std::int64_t imprecise_faces = 0;       ///< faces too thin for float32 at their coordinates (from MeshReport)
   double area = 0.0;                      ///< sum of the triangle areas, square metres (double sums)
   bool has_uv = false;
   bool has_normals = false;
@@ -62,7 +63,7 @@ MeshInfo compute_mesh_info(const Mesh& mesh, const Topology& topology, const Mes
 
 /// One JSON object, on one line, with the keys `nodes`, `faces`, `edges`, `boundary_edges`, `boundary_loops`, `components`,
 /// `euler_characteristic`, `non_manifold_edges`, `non_manifold_nodes`, `degenerate_faces`,
-/// `inconsistent_edges`, `duplicate_faces`, `thin_faces`, `sliver_faces`, `area`, `has_uv`, `has_normals`, `min_angle_deg` (null when NaN),
+/// `inconsistent_edges`, `duplicate_faces`, `thin_faces`, `imprecise_faces`, `sliver_faces`, `area`, `has_uv`, `has_normals`, `min_angle_deg` (null when NaN),
 /// `bbox_min`, `bbox_max` ([x, y, z], null when the mesh has no node).
 /// Keys in alphabetical order.
 std::string to_json(const MeshInfo& info);

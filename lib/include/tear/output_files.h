@@ -39,24 +39,59 @@ struct NamedPath {
 void check_output_files(const std::vector<NamedPath>& inputs, const FramePattern* pattern, int frame_count,
                         const std::vector<NamedPath>& outputs, int first_number = 1);
 
+/// The open descriptor of a temporary file being written, and with it the file's lock: closed
+/// (the lock let go) when this is destroyed, after the file's rename or removal. Move-only.
+class TemporaryFileLock {
+ public:
+  TemporaryFileLock() = default;
+  explicit TemporaryFileLock(int fd) : fd_(fd) {}
+  TemporaryFileLock(TemporaryFileLock&& other) noexcept : fd_(other.release()) {}
+  TemporaryFileLock& operator=(TemporaryFileLock&& other) noexcept;
+  TemporaryFileLock(const TemporaryFileLock&) = delete;
+  TemporaryFileLock& operator=(const TemporaryFileLock&) = delete;
+  ~TemporaryFileLock();
+  int fd() const { return fd_; }
+  /// Gives the descriptor up without closing it (the caller closes it, and the lock with it).
+  int release() {
+    const int fd = fd_;
+    fd_ = -1;
+    return fd;
+  }
+
+ private:
+  int fd_ = -1;
+};
+
 /// Creates the temporary file of `path` for writing, beside it: `.<name>.tmp.<pid>.<16 hex
 /// digits>` (`tag` not empty: `.<name>.<tag>.tmp....`), the digits random (getrandom), so that
 /// names never collide, even between hosts or PID namespaces sharing a folder. Created with
 /// O_CREAT|O_EXCL|O_NOFOLLOW, so a file or symbolic link planted at the name is never written
-/// through (another name is drawn). Returns the open descriptor and sets `temporary`; throws a
-/// runtime `Error` naming `path` when it cannot be created.
+/// through (another name is drawn), and open for reading and writing. The file is locked (a write
+/// lock on the whole file, `fcntl` F_OFD_SETLK, or F_SETLK where the kernel lacks it) before this
+/// returns, and stays locked while the returned descriptor is open: the writer keeps it open until
+/// the file is renamed or removed, and `remove_stale_temporaries` leaves a locked file alone. A
+/// file system that keeps no locks (ENOLCK, EOPNOTSUPP) gives an unlocked file, which no cleanup can
+/// then take either. Returns the open descriptor and sets `temporary`; throws a runtime `Error`
+/// naming `path` when it cannot be created.
 int create_temporary_file(const std::string& path, const std::string& tag, std::string& temporary);
 
 /// Throws a runtime `Error` naming `path` unless nothing is at `path` or a regular file is
 /// (symbolic links not followed): what a rename over `path` may replace.
 void check_replaceable(const std::string& path);
 
-/// Removes the temporary files that `write_file_atomically` of a process that no longer runs left
-/// beside `paths` (a killed run leaves `.cloth.0036.obj.tmp.4242` behind). Only files named
-/// `.<name>.tmp.<pid>` or `.<name>.tmp.<pid>.<16 hex digits>` for a `<name>` of `paths`, in that
-/// path's folder, with a decimal `<pid>` of no running process (or of this one), are removed; nothing else in the folder is touched, and
-/// a folder that does not exist or cannot be listed is skipped. Returns how many were removed.
-/// A run calls it once, after its checks, with every file it is about to write.
+/// Removes the temporary files that writers which are gone left beside `paths` (a killed run
+/// leaves `.cloth.0036.obj.tmp.4242.<16 hex digits>` behind). Only files named
+/// `.<name>.tmp.<pid>.<16 hex digits>` (or `.<name>.tmp.<pid>`, as tear spelled them before the
+/// random digits) for a `<name>` of `paths`, in that path's folder, are candidates, and of those
+/// only the provably abandoned go: a regular file whose lock this call can take without waiting
+/// (a read lock on the whole file, F_OFD_SETLK) and which it removes while holding it. A file
+/// locked by anyone (a writer on this host or another sharing the folder over NFS, in this
+/// process or another PID namespace) is left alone, whatever process id its name holds; a file
+/// that cannot be opened or locked (no lock support) is left too. The old spelling, written by a
+/// tear that did not lock, goes only when also no process of its id runs here. Nothing else in
+/// the folder is touched, and a folder that does not exist or cannot be listed is skipped.
+/// Returns how many were removed. A run calls it once, after its checks, with every file it is
+/// about to write.
 std::size_t remove_stale_temporaries(const std::vector<std::string>& paths);
 
 }  // namespace tear

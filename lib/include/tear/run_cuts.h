@@ -63,8 +63,13 @@ using FrameWrittenCallback = std::function<void(const FrameResult&)>;
 ///
 /// `first_frame` > 1 goes on from a cloth that already went through frames 1..first_frame-1 (a
 /// resumed run: `Cloth::load_state`); a cloth already simulated keeps its simulation.
-void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame,
-              int first_frame = 1);
+///
+/// `stop` (may be null) is looked at before every substep of a simulated frame
+/// (`Cloth::step_frame`): once it is set the frame being stepped is dropped, before `on_frame`,
+/// and the loop ends. Returns the last frame that `on_frame` was called for: `frame_count`, or
+/// less when stopped (`first_frame` - 1 when stopped within the first frame).
+int run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame,
+             int first_frame = 1, const volatile std::sig_atomic_t* stop = nullptr);
 
 /// Per-corner normals [face_count * 9] of `mesh` at its current positions: at each corner, the
 /// area-weighted average of the normals of the faces around the corner's node, normalised. A torn
@@ -145,9 +150,12 @@ struct RunOptions {
   /// 3 degenerate faces"; with `strict` the run stops there with a runtime `Error` (exit 3) instead.
   std::function<void(const std::string&)> on_warning;
   bool strict = false;
-  /// Checked after each frame is handed to the writer: once it is set (by a signal handler), the
-  /// run waits until every frame handed over is on disk, writes its checkpoint and stops with an
-  /// `Error` of kind `interrupted`.
+  /// Checked after each frame is handed to the writer, and before each substep of a simulated
+  /// frame: once it is set (by a signal handler), the frame being stepped, if any, is dropped, the
+  /// run waits until every frame handed over is on disk, writes its checkpoint (of the last frame
+  /// handed over when stopped after it; when stopped inside a frame, the checkpoint stays what the
+  /// frames before wrote: with `checkpoint_every` 1, the frame before) and stops with an `Error`
+  /// of kind `interrupted`.
   const volatile std::sig_atomic_t* stop = nullptr;
 };
 

@@ -87,9 +87,10 @@ bool is_usd_path(const std::string& path);
 /// Without a frame number in `pattern` (`shot.usda`) every frame goes to one layer, with
 /// `startTimeCode`/`endTimeCode` the first and last frame written. Memory stays bounded: each
 /// attribute's samples are streamed to a temporary file beside the layer
-/// (`.<name>.<attribute>.tmp.<pid>`) by a writer thread of the layer's own (`write` copies the
+/// (`.<name>.<attribute>.tmp.<pid>.<16 hex digits>`, open and so locked until removed) by a writer
+/// thread of the layer's own (`write` copies the
 /// mesh and returns; at most two frames wait), and `finish` waits for it, assembles the layer in
-/// `.<name>.tmp.<pid>` and renames it, so the layer appears whole or not at all. A failure of the
+/// `.<name>.tmp.<pid>.<16 hex digits>` and renames it, so the layer appears whole or not at all. A failure of the
 /// writer is thrown by the next `write` or by `finish`. With a frame number (`shot.####.usda`)
 /// each frame is a layer of its own holding that frame's sample, written atomically by `write`.
 ///
@@ -123,7 +124,7 @@ class UsdLayer final : public FrameSink {
   std::unique_ptr<Sequence> sequence_;
 };
 
-/// The paths whose temporary files (`.<name>.tmp.<pid>`, as `write_file_atomically` spells them)
+/// The paths whose temporary files (`.<name>.tmp.<pid>.<16 hex digits>`, as `create_temporary_file` spells them)
 /// a single layer at `path` streams its samples to: `<path>.<attribute>` for every attribute a
 /// layer can hold. A run passes them to `remove_stale_temporaries` with its outputs, so that what
 /// a killed run left beside the layer goes.

@@ -28,6 +28,14 @@ struct MeshReport {
   /// positions are single precision, 24 significant bits: a cut point placed on such a face can
   /// round onto its long edge, and the cut leaves a degenerate face.
   std::int64_t thin_faces = 0;
+  /// Faces that are neither degenerate nor thin but whose height is at most `imprecise_steps`
+  /// single-precision steps at their largest coordinate: float32 cannot hold the face's width
+  /// beside its distance from the origin (features of 0.25 m beside a node 3.3e6 m away, where
+  /// float32 has steps of 0.25 m), so a point a cut places on the face is off by a good part of its
+  /// height, and its cuts leave faces thinner still, too thin to cut. A mesh with any is not cut
+  /// (`cuttable`); a cut's result is not held to it (`ok`): the faces a cut makes of a face near
+  /// that limit may be under it.
+  std::int64_t imprecise_faces = 0;
 
   /// No index out of range and no non-finite coordinate: topology and statistics can be computed.
   bool readable() const { return indices_out_of_range == 0 && non_finite_nodes == 0; }
@@ -36,6 +44,9 @@ struct MeshReport {
     return readable() && degenerate_faces == 0 && non_manifold_edges == 0 && non_manifold_nodes == 0 &&
            inconsistent_edges == 0 && duplicate_faces == 0 && thin_faces == 0;
   }
+  /// Nothing wrong, and no imprecise face: what a mesh must be to be cut (`tear run`, `tear info`'s
+  /// `cuttable`, `check_cuttable`).
+  bool cuttable() const { return ok() && imprecise_faces == 0; }
   /// One line naming every non-zero count, e.g. "3 non-manifold edges, 1 bow-tie node".
   std::string describe() const;
 };
@@ -49,6 +60,12 @@ inline constexpr double degenerate_area_ratio = 1e-12;
 /// its longest edge. In angles, about 6e-6 degrees; a 0.0004 degree sliver can still be cut (and
 /// is warned about: `sliver_angle_deg`).
 inline constexpr double thin_area_ratio = 1e-7;
+
+/// A face is imprecise when its height is at most this many single-precision steps at its largest
+/// coordinate M (|x|, |y| or |z| of its nodes; a step there is at most M 2^-23): twice its area at
+/// most `imprecise_steps` M 2^-23 times its longest edge. The two cuts that thinned a face of 3.2
+/// steps under the thin limit took it to 0.32 of a step; 8 steps leave a margin for such cuts.
+inline constexpr double imprecise_steps = 8;
 
 /// Checks indices and coordinates only; cheap, and enough to know whether topology can be built.
 MeshReport check_indices(const Mesh& mesh, Device device);

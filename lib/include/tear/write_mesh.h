@@ -4,6 +4,7 @@
 #include <string>
 
 #include "tear/mesh.h"
+#include "tear/output_files.h"
 
 namespace tear {
 
@@ -14,7 +15,7 @@ enum class MeshFormat { obj, ply, gltf, glb };
 MeshFormat format_from_path(const std::string& path);
 
 /// Writes `mesh` to `path` in `format` (the first overload takes it from the extension): to a
-/// temporary file beside it (`.<name>.tmp.<pid>`), then renamed, so a reader never sees a
+/// temporary file beside it (`.<name>.tmp.<pid>.<16 hex digits>`, locked while written), then renamed, so a reader never sees a
 /// half-written file. The same mesh always gives the same bytes.
 ///
 /// - OBJ: a `# tear` header line, `v` for every node (node `i` is `v` number `i + 1`), `vt` and
@@ -67,8 +68,8 @@ struct EncodeOptions {
 void encode_mesh(const Mesh& mesh, const std::string& path, MeshFormat format, std::string& bytes,
                  const EncodeOptions& options = {});
 
-/// Writes `text` (any bytes) to `path` atomically: to `.<name>.tmp.<pid>` in the same directory,
-/// then `rename`d over `path`. On failure the temporary file is removed and a runtime `Error`
+/// Writes `text` (any bytes) to `path` atomically: to its temporary file in the same directory
+/// (`create_temporary_file`, locked until the rename), then `rename`d over `path`. On failure the temporary file is removed and a runtime `Error`
 /// "<path>: cannot write: <reason>" is thrown.
 void write_file_atomically(const std::string& path, const std::string& text);
 
@@ -76,12 +77,13 @@ void write_file_atomically(const std::string& path, const std::string& text);
 /// two halves of `write_file_atomically` apart, so that files written side by side on several
 /// threads can be renamed in an order of the caller's (tear/frame_writer.h).
 struct TemporaryFile {
-  std::string path;       ///< where the file goes
-  std::string temporary;  ///< `.<name>.tmp.<pid>` in the folder of `path`
+  std::string path;        ///< where the file goes
+  std::string temporary;   ///< `.<name>.tmp.<pid>.<16 hex digits>` in the folder of `path`
+  TemporaryFileLock lock;  ///< the file kept open, and so locked, until this is destroyed
 };
 
 /// The first half of `write_file_atomically`: writes `bytes` to the temporary file of `path`,
-/// flushed to disk and closed. On failure the temporary file is removed and a runtime `Error`
+/// flushed to disk and kept open (locked) in the returned value. On failure the temporary file is removed and a runtime `Error`
 /// "<path>: cannot write: <reason>" is thrown. Files of different paths may be written at once.
 TemporaryFile write_temporary_file(const std::string& path, const std::string& bytes);
 

@@ -45,11 +45,12 @@ CutProvenance Cloth::provenance() const { return engine_->provenance(); }
 std::vector<std::uint8_t> Cloth::node_pinned() const { return engine_->node_pinned(); }
 void Cloth::simulate(const SimulationOptions& options) { engine_->simulate(options); }
 bool Cloth::simulated() const { return engine_->simulated(); }
-void Cloth::step() { engine_->step(0); }
-void Cloth::step_frame(int frame) {
+void Cloth::step() { engine_->step(0, nullptr); }
+void Cloth::step_frame(int frame) { step_frame(frame, nullptr); }
+bool Cloth::step_frame(int frame, const volatile std::sig_atomic_t* stop) {
   if (frame < 1)
     throw Error(ErrorKind::usage, "Cloth::step_frame: expected a frame >= 1, got " + std::to_string(frame));
-  engine_->step(frame);
+  return engine_->step(frame, stop);
 }
 bool Cloth::state_is_finite() const { return engine_->state_is_finite(); }
 TearStats Cloth::last_tear() const { return engine_->last_tear(); }

@@ -20,8 +20,9 @@ class Cloth::Engine {
   virtual CutStats cut(const std::vector<CutLine>& cuts, const CutOptions& options) = 0;
   virtual void simulate(const SimulationOptions& options) = 0;
   virtual bool simulated() const = 0;
-  /// Steps frame `frame` (1-based), or the one after the frame stepped last where `frame` < 1.
-  virtual void step(int frame) = 0;
+  /// Steps frame `frame` (1-based), or the one after the frame stepped last where `frame` < 1;
+  /// false when `stop` (may be null) was set before its last substep (`Cloth::step_frame`).
+  virtual bool step(int frame, const volatile std::sig_atomic_t* stop) = 0;
   virtual bool state_is_finite() const = 0;
   virtual TearStats last_tear() const = 0;
   /// The mesh, its copy to the host queued (`Cloth::mesh_later`).

@@ -84,12 +84,13 @@ class ClothEngine final : public Cloth::Engine {
   }
   bool simulated() const override { return simulated_; }
 
-  void step(int frame) override {
+  bool step(int frame, const volatile std::sig_atomic_t* stop) override {
     if (!simulated_) throw Error(ErrorKind::usage, "Cloth::step: no simulation (call Cloth::simulate first)");
     if (frame < 1) frame = frames_stepped_ + 1;
-    stepper_.step(cloth_, cutter_, frame, last_tear_);
+    const bool whole = stepper_.step(cloth_, cutter_, frame, last_tear_, stop);
     frames_stepped_ = frame;
     if (last_tear_.events > 0) renumber_pieces_now();  // once per frame, over all its substeps' tears
+    return whole;
   }
 
   TearStats last_tear() const override { return last_tear_; }

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <memory>
@@ -59,13 +60,17 @@ class StepJob {
     field_.reset();
   }
 
-  /// Steps frame `frame` of `cloth`, tearing it through `cutter` between substeps.
-  void step(DeviceCloth<System>& cloth, CutJob<System>& cutter, int frame, TearStats& torn) {
+  /// Steps frame `frame` of `cloth`, tearing it through `cutter` between substeps. With `stop`,
+  /// looks at it before every substep: false when it was set before the last one (the frame part
+  /// done, Cloth::step_frame).
+  bool step(DeviceCloth<System>& cloth, CutJob<System>& cutter, int frame, TearStats& torn,
+            const volatile std::sig_atomic_t* stop) {
     torn = TearStats{};
     if (!options_.tearing.enabled() && !collides_) {
       refresh_solver(cloth);
+      if (stop != nullptr) return step_watching(cloth, frame, *stop);
       solver_->step_in_place(raw<float>(cloth.node_pos), raw<float>(cloth.node_vel), frame);
-      return;
+      return true;
     }
     // Torn between substeps: the next substep steps the torn cloth with its new model. Marks in
     // the backend's queue time the parts, read once the step's work is done.
@@ -74,7 +79,12 @@ class StepJob {
       marks_ = std::make_unique<StepMarks[]>(static_cast<std::size_t>(substeps));
       mark_count_ = substeps;
     }
-    for (int s = 0; s < substeps; ++s) {
+    int done = 0;  // substeps stepped: all of them unless stopped
+    for (; done < substeps; ++done) {
+      // Each substep waits for the backend (the tearing check reads a stretch back), so the stop
+      // is looked at as the substeps end.
+      if (stop != nullptr && *stop) break;
+      const int s = done;
       StepMarks& m = marks_[s];
       m.rebuilt = !solver_ || stale_;
       if (m.rebuilt) m.rebuild_start.record();
@@ -97,7 +107,7 @@ class StepJob {
       torn.collision_bytes = collision_.bytes();
       torn.held_nodes = collision_.held_nodes();
     }
-    for (int s = 0; s < substeps; ++s) {
+    for (int s = 0; s < done; ++s) {
       const StepMarks& m = marks_[s];
       if (m.rebuilt) torn.rebuild_ms += QueueMark::elapsed_ms(m.rebuild_start, m.rebuild_end);
       torn.solver_ms += QueueMark::elapsed_ms(m.substep_start, m.substep_end);
@@ -105,6 +115,7 @@ class StepJob {
       torn.check_ms += QueueMark::elapsed_ms(m.collision_end, m.check_end);
       if (m.applied) torn.apply_ms += QueueMark::elapsed_ms(m.check_end, m.apply_end);
     }
+    return done == substeps;
   }
 
  private:
@@ -115,6 +126,28 @@ class StepJob {
     QueueMark rebuild_start, rebuild_end, substep_start, substep_end, collision_end, check_end, apply_end;
     bool rebuilt = false, applied = false;
   };
+
+  /// A frame without tearing, substep by substep (the same work as `step_in_place`'s whole frame,
+  /// so the same bytes), `stop` looked at before each. On an asynchronous backend (CUDA) the
+  /// substeps queued are waited for in chunks, doubled while a chunk takes under 50 ms: a stop
+  /// lands within about 0.1 s and a substep, and a frame of short substeps waits a few times only.
+  /// On the CPU each substep is done when its call returns.
+  bool step_watching(DeviceCloth<System>& cloth, int frame, const volatile std::sig_atomic_t& stop) {
+    using Clock = std::chrono::steady_clock;
+    int chunk = 1, queued = 0;
+    Clock::time_point chunk_start = Clock::now();
+    for (int s = 0; s < options_.substeps; ++s) {
+      if (stop) return false;
+      solver_->step_substep_in_place(raw<float>(cloth.node_pos), raw<float>(cloth.node_vel), frame, s);
+      if (++queued < chunk) continue;
+      Traits<System>::synchronize();
+      const Clock::time_point now = Clock::now();
+      if (now - chunk_start < std::chrono::milliseconds(50) && chunk < (1 << 20)) chunk *= 2;
+      queued = 0;
+      chunk_start = now;
+    }
+    return true;
+  }
 
   void refresh_solver(const DeviceCloth<System>& cloth) {
     if (solver_ && !stale_) return;

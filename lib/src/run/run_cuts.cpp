@@ -190,7 +190,7 @@ double min_face_angle_deg(const std::vector<index_t>& face_nodes, const std::vec
 
 void check_cuttable(const Mesh& mesh, const std::string& mesh_path, Device device) {
   const MeshReport report = validate_mesh(mesh, device);
-  if (!report.ok()) throw input_error(mesh_path, "cannot be cut: " + report.describe());
+  if (!report.cuttable()) throw input_error(mesh_path, "cannot be cut: " + report.describe());
 }
 
 void check_run_inputs(const CutScript& script, const Mesh& mesh, const std::string& mesh_path, Device device) {
@@ -200,7 +200,8 @@ void check_run_inputs(const CutScript& script, const Mesh& mesh, const std::stri
   if (script.simulation) resolve_pins(*script.simulation, mesh.node_pos, mesh.node_count());
 }
 
-void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame, int first_frame) {
+int run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const FrameCallback& on_frame, int first_frame,
+             const volatile std::sig_atomic_t* stop) {
   check_frame_count(script, frame_count);
   if (script.simulation && !cloth.simulated()) cloth.simulate(*script.simulation);
   const CutOptions cut_options{script.snap};
@@ -232,7 +233,8 @@ void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const Fram
     }
     if (cloth.simulated()) {
       const Clock::time_point start = Clock::now();
-      cloth.step_frame(frame);
+      // Stopped inside the frame: the frame is dropped, the cloth part way through it.
+      if (!cloth.step_frame(frame, stop)) return frame - 1;
       // Waits for the step (for its time) and stops before a frame of NaNs is handed on.
       if (!cloth.state_is_finite())
         throw runtime_error(script.path + ": frame " + std::to_string(frame) +
@@ -249,6 +251,7 @@ void run_cuts(Cloth& cloth, const CutScript& script, int frame_count, const Fram
     result.faces_end = cloth.face_count();
     if (on_frame) on_frame(result, cloth);
   }
+  return frame_count;
 }
 
 namespace {
@@ -318,8 +321,9 @@ void write_report(const std::string& mesh_path, const CutScript& script, const R
 class FrameHandOver {
  public:
   FrameHandOver(const RunOptions& options, int frame_count, const RunInputs& inputs, FrameSink& sink,
-                FrameWriter& writer, RunTotals& totals, RunSummary& summary)
-      : options_(options),
+                FrameWriter& writer, RunTotals& totals, RunSummary& summary, int first_frame)
+      : checkpointed_(first_frame - 1),
+        options_(options),
         frame_count_(frame_count),
         inputs_(inputs),
         sink_(sink),
@@ -376,6 +380,7 @@ class FrameHandOver {
         },
         [quality](const Mesh& mesh) { *quality = face_quality(mesh); });
     totals_.write_wait_ms += ms_since(hand_over_start);
+    if (checkpoint) checkpointed_ = frame.frame;
     if (stopping) {
       writer_.finish();
       throw Error(ErrorKind::interrupted,
@@ -384,9 +389,30 @@ class FrameHandOver {
     }
   }
 
+  /// The run was stopped inside frame `frame`, which is dropped: once the frames before it are on
+  /// disk (with their checkpoints), stops as after the frame before ("stopped after frame 11 of
+  /// 48, inside frame 12 (...)"). The checkpoint is the last one written, of the frame before with
+  /// `checkpoint_every` 1; resuming computes `frame` again, and any frames after the checkpoint's.
+  [[noreturn]] void stopped_inside(int frame) {
+    writer_.finish();
+    const std::string count = std::to_string(frame_count_);
+    std::string message =
+        frame > 1 ? "stopped after frame " + std::to_string(frame - 1) + " of " + count + ", inside frame " +
+                        std::to_string(frame) + " (dropped: it is computed again on resume)"
+                  : "stopped inside frame 1 of " + count + ", before any frame was written";
+    if (!options_.checkpoint_path.empty() && checkpointed_ > 0) {
+      message += "; '--resume' goes on from " + options_.checkpoint_path;
+      if (checkpointed_ != frame - 1) message += " (its frame " + std::to_string(checkpointed_) + ")";
+    } else if (!options_.checkpoint_path.empty()) {
+      message += "; '--resume' starts from frame 1";
+    }
+    throw Error(ErrorKind::interrupted, message);
+  }
+
  private:
   int checkpoint_every() const { return std::max(options_.checkpoint_every, 1); }
 
+  int checkpointed_;  // the frame of the checkpoint last written (or resumed from); 0: none
   const RunOptions& options_;
   int frame_count_;
   const RunInputs& inputs_;
@@ -399,9 +425,10 @@ class FrameHandOver {
 /// The frame loop with its frames handed to `writer`, which is finished (every frame on disk)
 /// before this returns or throws.
 void run_frames(Cloth& cloth, const CutScript& script, int frame_count, int first_frame, FrameHandOver& hand_over,
-                FrameWriter& writer, RunTotals& totals) {
+                FrameWriter& writer, RunTotals& totals, const volatile std::sig_atomic_t* stop) {
   try {
-    run_cuts(cloth, script, frame_count, std::ref(hand_over), first_frame);
+    const int done = run_cuts(cloth, script, frame_count, std::ref(hand_over), first_frame, stop);
+    if (done < frame_count) hand_over.stopped_inside(done + 1);
     const Clock::time_point finish_start = Clock::now();
     writer.finish();
     totals.write_wait_ms += ms_since(finish_start);
@@ -436,8 +463,8 @@ RunSummary run_to_files(const Mesh& mesh, const std::string& mesh_path, const Cu
   // Declared after the sink: it is gone (its threads ended, the temporary files of frames it did
   // not rename removed) before the sink goes.
   FrameWriter writer(*sink, FrameWriterOptions{options.writer_threads});
-  FrameHandOver hand_over(options, frame_count, inputs, *sink, writer, totals, summary);
-  run_frames(cloth, script, frame_count, first_frame, hand_over, writer, totals);
+  FrameHandOver hand_over(options, frame_count, inputs, *sink, writer, totals, summary, first_frame);
+  run_frames(cloth, script, frame_count, first_frame, hand_over, writer, totals, options.stop);
   const Clock::time_point sink_start = Clock::now();
   sink->finish();
   totals.write_wait_ms += ms_since(sink_start);

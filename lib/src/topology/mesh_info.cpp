@@ -88,6 +88,7 @@ MeshInfo compute_mesh_info(const Mesh& mesh, const Topology& topology, const Mes
   info.inconsistent_edges = report.inconsistent_edges;
   info.duplicate_faces = report.duplicate_faces;
   info.thin_faces = report.thin_faces;
+  info.imprecise_faces = report.imprecise_faces;
   info.has_uv = mesh.has_uv();
   info.has_normals = mesh.has_normals();
 
@@ -146,6 +147,7 @@ std::string to_json(const MeshInfo& info) {
   j["duplicate_faces"] = info.duplicate_faces;
   j["sliver_faces"] = info.sliver_faces;
   j["thin_faces"] = info.thin_faces;
+  j["imprecise_faces"] = info.imprecise_faces;
   j["area"] = number_or_null(info.area);
   j["has_uv"] = info.has_uv;
   j["has_normals"] = info.has_normals;

@@ -22,6 +22,11 @@ std::string MeshReport::describe() const {
   add(duplicate_faces, "face on the same three nodes as another face", "faces on the same three nodes as another face");
   add(thin_faces, "face too thin to cut (height under 1e-7 of its longest edge)",
       "faces too thin to cut (height under 1e-7 of their longest edge)");
+  add(imprecise_faces,
+      "face too thin for single precision at its coordinates (height under 8 float32 steps at its largest "
+      "coordinate: the mesh spans scales float32 cannot hold together)",
+      "faces too thin for single precision at their coordinates (height under 8 float32 steps at their largest "
+      "coordinate: the mesh spans scales float32 cannot hold together)");
   return out.empty() ? "no problems" : out;
 }
 

@@ -42,6 +42,8 @@ void check_topology_into(MeshReport& report, const vector<System, index_t>& face
         count_bad<System>(face_count,
                           kernels::face_degenerate{raw<float>(node_pos), raw<index_t>(face_nodes), thin_area_ratio}) -
         report.degenerate_faces;
+    report.imprecise_faces = count_bad<System>(
+        face_count, kernels::face_imprecise{raw<float>(node_pos), raw<index_t>(face_nodes), thin_area_ratio, imprecise_steps});
   }
   report.non_manifold_edges = count_bad<System>(edge_count, kernels::edge_non_manifold{raw<index_t>(edge_face_count)});
   report.inconsistent_edges = count_bad<System>(

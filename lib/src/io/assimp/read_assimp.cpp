@@ -8,8 +8,10 @@
 #include <string>
 #include <vector>
 
+#include "io/assimp/confined_io_system.h"
 #include "io/mesh/file_mesh.h"
 #include "tear/error.h"
+#include "tear/input_file.h"
 
 namespace tear {
 namespace {
@@ -84,6 +86,10 @@ std::string describe_assimp_error(std::string text) {
 
 FileMesh read_assimp_file(const std::string& path, const std::string& mesh_name) {
   Assimp::Importer importer;
+  // Every file assimp opens goes through here: the mesh, and the files it names only inside its
+  // folder (the importer owns the handler).
+  auto* files = new ConfinedIoSystem(path, max_input_bytes());
+  importer.SetIOHandler(files);
   // Points and lines are of no use to cloth; SortByPType moves them into meshes dropped here.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   // No JoinIdenticalVertices: it would merge corners and lose per-corner UVs and normals; weld_nodes
@@ -91,7 +97,14 @@ FileMesh read_assimp_file(const std::string& path, const std::string& mesh_name)
   // meshes, so node transforms are applied here.
   const aiScene* scene =
       importer.ReadFile(path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure);
-  if (!scene) throw input_error(path, describe_assimp_error(importer.GetErrorString()));
+  if (!scene) {
+    // A file it names and may not read is the likely cause: said first.
+    if (!files->refused().empty())
+      throw input_error(path, "cannot be read without " + files->refused() + ", which it names: " +
+                                  files->refused_why() + ", not opened (" +
+                                  describe_assimp_error(importer.GetErrorString()) + ")");
+    throw input_error(path, describe_assimp_error(importer.GetErrorString()));
+  }
   if (!scene->mRootNode) throw input_error(path, "holds no triangles");
 
   std::vector<Placement> placements;

@@ -203,7 +203,7 @@ struct UsdLayer::Sequence {
     for (int i = 0; i < attribute_count; ++i) {
       if (!attributes.has(static_cast<Attribute>(i))) continue;
       const int fd = create_temporary_file(path, declarations[i].file_tag, file_paths[i]);
-      files[i] = ::fdopen(fd, "wb");
+      files[i] = ::fdopen(fd, "w+b");
       if (!files[i]) {
         const int error = errno;
         ::close(fd);
@@ -265,12 +265,10 @@ struct UsdLayer::Sequence {
 
   void assemble(const UsdLayerOptions& options) {
     stop(false);
-    for (int i = 0; i < attribute_count; ++i) {
-      if (!files[i]) continue;
-      const int failed = std::fclose(files[i]);
-      files[i] = nullptr;
-      if (failed != 0) throw write_error(path, errno);
-    }
+    // The samples' files stay open, and so locked against a cleanup (tear/output_files.h), until
+    // they are copied and removed; they are read through the same descriptors.
+    for (int i = 0; i < attribute_count; ++i)
+      if (files[i] && std::fflush(files[i]) != 0) throw write_error(path, errno);
     FileDescriptor out{create_temporary_file(path, "", assembled_path)};
     if (out.fd < 0) throw write_error(path, errno);
     const std::string head = layer_head(first_frame, last_frame, options);
@@ -280,13 +278,13 @@ struct UsdLayer::Sequence {
       if (file_paths[i].empty()) continue;
       const std::string open_text = attribute_open(static_cast<Attribute>(i));
       write_all(out.fd, open_text.data(), open_text.size(), path);
-      FileDescriptor in{::open(file_paths[i].c_str(), O_RDONLY | O_CLOEXEC)};
-      if (in.fd < 0) throw write_error(path, errno);
+      const int in = ::fileno(files[i]);
+      if (::lseek(in, 0, SEEK_SET) != 0) throw write_error(path, errno);
       // The kernel copies the samples file to file where it can (no pass through this process);
       // where it cannot (another file system, an old kernel), read and write.
       bool copied = false;
       for (;;) {
-        const ssize_t n = ::copy_file_range(in.fd, nullptr, out.fd, nullptr, std::size_t(1) << 30, 0);
+        const ssize_t n = ::copy_file_range(in, nullptr, out.fd, nullptr, std::size_t(1) << 30, 0);
         if (n < 0 && errno == EINTR) continue;
         if (n < 0 && (errno == EXDEV || errno == ENOSYS || errno == EINVAL || errno == EOPNOTSUPP || errno == EBADF))
           break;
@@ -297,7 +295,7 @@ struct UsdLayer::Sequence {
         }
       }
       while (!copied) {
-        const ssize_t n = ::read(in.fd, buffer.data(), buffer.size());
+        const ssize_t n = ::read(in, buffer.data(), buffer.size());
         if (n < 0 && errno == EINTR) continue;
         if (n < 0) throw write_error(path, errno);
         if (n == 0) break;
@@ -308,13 +306,13 @@ struct UsdLayer::Sequence {
       // once plus one attribute.
       ::unlink(file_paths[i].c_str());
       file_paths[i].clear();
+      std::fclose(files[i]);
+      files[i] = nullptr;
     }
     write_all(out.fd, layer_tail, std::strlen(layer_tail), path);
     // Without fsync a crash right after the rename could leave an empty file under the final name.
     if (::fsync(out.fd) != 0 && errno != EINVAL && errno != EROFS) throw write_error(path, errno);
-    const int fd = out.fd;
-    out.fd = -1;
-    if (::close(fd) != 0) throw write_error(path, errno);
+    // Renamed while still open, and so locked: the descriptor is closed by `out` after.
     check_replaceable(path);
     if (std::rename(assembled_path.c_str(), path.c_str()) != 0) throw write_error(path, errno);
     assembled_path.clear();
@@ -323,10 +321,10 @@ struct UsdLayer::Sequence {
 
   void remove_temporaries() {
     for (int i = 0; i < attribute_count; ++i) {
+      if (!file_paths[i].empty()) ::unlink(file_paths[i].c_str());  // before the close lets the lock go
+      file_paths[i].clear();
       if (files[i]) std::fclose(files[i]);
       files[i] = nullptr;
-      if (!file_paths[i].empty()) ::unlink(file_paths[i].c_str());
-      file_paths[i].clear();
     }
     if (!assembled_path.empty()) ::unlink(assembled_path.c_str());
     assembled_path.clear();
