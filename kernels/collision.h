@@ -522,14 +522,13 @@ struct apply_contact_moves {
 };
 
 /// The entries of the node → moves CSR: slot 4i + j is keyed by pair i's vertex j when that is a
-/// free cloth node, else by `node_count` (a key past the nodes, which no node reads): every slot
-/// has a key, so the CSR's size is known without reading it back.
+/// free cloth node (else it has no key: pinned nodes and bodies, which contacts do not move).
 struct ContactSlots {
   const CollisionPair* pairs;
   CollisionVertices x;
   TEAR_HD index_t key(index_t slot) const {
     const index_t v = pairs[slot / 4].v[slot % 4];
-    return x.w(v) > 0.0f ? v : x.node_count;
+    return x.w(v) > 0.0f ? v : -1;
   }
   TEAR_HD index_t value(index_t slot) const { return slot; }
 };

@@ -93,6 +93,7 @@ void print_collision_row(const CollisionBenchRow& r, const CollisionBenchRow* cp
               r.collision_ms, 100 * r.collision_fraction, r.bytes_per_face, static_cast<long long>(r.held_nodes));
   if (cpu && r.frame_ms_mean > 0) std::printf("  %8.1fx", cpu->frame_ms_mean / r.frame_ms_mean);
   std::printf("\n");
+  std::fflush(stdout);
 }
 
 void print_io_row(const IoBenchRow& r) {

@@ -128,8 +128,15 @@ class CollisionJob {
                      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       if (pairs == 0) break;
       const kernels::CollisionVertices x = vertices(cloth);
+      const auto t1 = std::chrono::steady_clock::now();
       build_csr_by_counting<System>(policy, kernels::ContactSlots{raw<kernels::CollisionPair>(pairs_), x}, 4 * pairs,
-                                    nodes + 1, 4 * pairs, tally_, slot_offset_, slots_);
+                                    nodes, -1, tally_, slot_offset_, slots_);
+      if (debug) {
+        Traits<System>::synchronize();
+        std::fprintf(stderr, "collision: csr %.3f ms\n",
+                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count());
+      }
+      const auto t2 = std::chrono::steady_clock::now();
       resize_for_overwrite(moves_, 4 * static_cast<std::size_t>(pairs));
       const kernels::CollisionGeometry geometry{x, static_cast<float>(o.thickness)};
       for (int r = 0; r < o.iterations; ++r) {
@@ -140,6 +147,11 @@ class CollisionJob {
             nodes, kernels::apply_contact_moves{raw<index_t>(slot_offset_), raw<index_t>(slots_),
                                                 raw<kernels::Vec3f>(moves_), raw<kernels::PdCollider>(colliders_),
                                                 static_cast<index_t>(colliders.size()), raw<float>(cloth.node_pos)});
+      }
+      if (debug) {
+        Traits<System>::synchronize();
+        std::fprintf(stderr, "collision: rounds %.3f ms\n",
+                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t2).count());
       }
       crossing = thrust::transform_reduce(policy, zero, zero + pairs,
                                           kernels::crossing_of{geometry, raw<kernels::CollisionPair>(pairs_)},
