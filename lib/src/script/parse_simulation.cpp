@@ -98,8 +98,8 @@ std::size_t kind_count(const json& value) {
 /// path relative to the script's folder, confined to it as a glTF's files are; read with the mesh
 /// reader, every file of a sequence of one topology. `frames`: the script's frames, which a
 /// sequence must cover (frame 0, the start, is optional: without it frame 1's file stands there).
-std::shared_ptr<const ColliderMesh> read_collider_mesh(const Reader& reader, const json& value,
-                                                       const std::string& path, int frames) {
+std::shared_ptr<const ColliderMesh> read_collider_mesh(const Reader& reader, const json& value, const std::string& path,
+                                                       int frames) {
   if (!value.is_string()) reader.fail(path, "expected the path of a mesh file, got " + describe(value));
   const std::string& name = value.get_ref<const std::string&>();
   const std::string folder = std::filesystem::path(reader.file()).parent_path().string();
@@ -169,12 +169,14 @@ Pin parse_pin(const Reader& reader, const json& value, const std::string& path) 
     const json& box = value["box"];
     reader.expect_object(box, box_path, {"min", "max"});
     pin.kind = Pin::Kind::box;
-    pin.min = reader.point<3>(reader.member(box, box_path, "min", "an array of 3 numbers"), child_path(box_path, "min"));
-    pin.max = reader.point<3>(reader.member(box, box_path, "max", "an array of 3 numbers"), child_path(box_path, "max"));
+    pin.min =
+        reader.point<3>(reader.member(box, box_path, "min", "an array of 3 numbers"), child_path(box_path, "min"));
+    pin.max =
+        reader.point<3>(reader.member(box, box_path, "max", "an array of 3 numbers"), child_path(box_path, "max"));
     for (int a = 0; a < 3; ++a)
       if (pin.max[a] < pin.min[a])
-        reader.fail(child_path(child_path(box_path, "max"), a), "expected a number >= min[" + std::to_string(a) + "] (" +
-                                                                    json(pin.min[a]).dump() + "), got " +
+        reader.fail(child_path(child_path(box_path, "max"), a), "expected a number >= min[" + std::to_string(a) +
+                                                                    "] (" + json(pin.min[a]).dump() + "), got " +
                                                                     json(pin.max[a]).dump());
   } else {
     const std::string nodes_path = child_path(path, "nodes");
@@ -182,8 +184,9 @@ Pin parse_pin(const Reader& reader, const json& value, const std::string& path) 
     if (!nodes.is_array()) reader.fail(nodes_path, "expected an array of node indices, got " + describe(nodes));
     pin.kind = Pin::Kind::nodes;
     for (std::size_t i = 0; i < nodes.size(); ++i)
-      pin.nodes.push_back(static_cast<index_t>(reader.integer(
-          nodes[i], child_path(nodes_path, i), 0, std::numeric_limits<index_t>::max(), "a node index (an integer >= 0)")));
+      pin.nodes.push_back(
+          static_cast<index_t>(reader.integer(nodes[i], child_path(nodes_path, i), 0,
+                                              std::numeric_limits<index_t>::max(), "a node index (an integer >= 0)")));
   }
   pin.keys = parse_optional_keys(reader, value, path);
   return pin;
@@ -225,9 +228,10 @@ Collider parse_collider(const Reader& reader, const json& value, const std::stri
     collider.kind = Collider::Kind::sphere;
     collider.point = bounded_point(reader, reader.member(sphere, sphere_path, "center", "an array of 3 numbers"),
                                    child_path(sphere_path, "center"), extent, "metres");
-    collider.radius = reader.number(reader.member(sphere, sphere_path, "radius", "a number in (0, " + shown(extent) + "]"),
-                                    child_path(sphere_path, "radius"), "a number in (0, " + shown(extent) + "] (metres)",
-                                    [&](double x) { return x > 0 && x <= extent; });
+    collider.radius =
+        reader.number(reader.member(sphere, sphere_path, "radius", "a number in (0, " + shown(extent) + "]"),
+                      child_path(sphere_path, "radius"), "a number in (0, " + shown(extent) + "] (metres)",
+                      [&](double x) { return x > 0 && x <= extent; });
   }
   collider.keys = parse_optional_keys(reader, value, path);
   return collider;
@@ -237,8 +241,8 @@ Collider parse_collider(const Reader& reader, const json& value, const std::stri
 double optional_number(const Reader& reader, const json& object, const std::string& path, const std::string& key,
                        double lo, double hi, const std::string& unit, double fallback, bool lo_open = true) {
   if (!object.contains(key)) return fallback;
-  const std::string expected = std::string("a number in ") + (lo_open ? "(" : "[") + shown(lo) + ", " + shown(hi) +
-                               "] (" + unit + ")";
+  const std::string expected =
+      std::string("a number in ") + (lo_open ? "(" : "[") + shown(lo) + ", " + shown(hi) + "] (" + unit + ")";
   return reader.number(object[key], child_path(path, key), expected,
                        [&](double x) { return (lo_open ? x > lo : x >= lo) && x <= hi; });
 }
@@ -251,8 +255,8 @@ Weave parse_weave(const Reader& reader, const json& value, const std::string& pa
     const auto w = reader.point<2>(value["warp"], child_path(path, "warp"));
     const double length = std::hypot(w[0], w[1]);
     if (!(length > 1e-9) || !(length < 1e9))
-      reader.fail(child_path(path, "warp"), "expected a non-zero direction [du, dv] in UV space, got " +
-                                                describe(value["warp"]));
+      reader.fail(child_path(path, "warp"),
+                  "expected a non-zero direction [du, dv] in UV space, got " + describe(value["warp"]));
     weave.warp = {w[0] / length, w[1] / length};
   }
   weave.weft_strength =
@@ -262,7 +266,8 @@ Weave parse_weave(const Reader& reader, const json& value, const std::string& pa
 
 /// `tearing.strength_map`: "maps/strength.png", a path relative to the script's folder, confined to
 /// it as a glTF's files are to the glTF's (docs/io.md, *Files a file names*).
-std::shared_ptr<const StrengthMap> parse_strength_map(const Reader& reader, const json& value, const std::string& path) {
+std::shared_ptr<const StrengthMap> parse_strength_map(const Reader& reader, const json& value,
+                                                      const std::string& path) {
   if (!value.is_string()) reader.fail(path, "expected the path of a greyscale image, got " + describe(value));
   const std::string& name = value.get_ref<const std::string&>();
   const std::string folder = std::filesystem::path(reader.file()).parent_path().string();
@@ -284,8 +289,8 @@ std::shared_ptr<const StrengthMap> parse_strength_map(const Reader& reader, cons
 /// `tearing`: {"stretch": S, ...}, S required (docs/simulation.md, *Tearing*).
 TearingOptions parse_tearing(const Reader& reader, const json& value, const std::string& path) {
   reader.expect_object(value, path,
-                       {"stretch", "start", "radius", "step", "min_piece", "max_faces_per_step", "max_faces",
-                        "weave", "seam_strength", "variation", "seed", "strength_map"});
+                       {"stretch", "start", "radius", "step", "min_piece", "max_faces_per_step", "max_faces", "weave",
+                        "seam_strength", "variation", "seed", "strength_map"});
   TearingOptions tearing;
   const std::string stretch_range = "a number in (1, " + shown(limits::max_tear_stretch) + "] (stretch ratio)";
   tearing.stretch = reader.number(reader.member(value, path, "stretch", stretch_range), child_path(path, "stretch"),
@@ -299,9 +304,9 @@ TearingOptions parse_tearing(const Reader& reader, const json& value, const std:
         value["max_faces_per_step"], child_path(path, "max_faces_per_step"), 1, limits::max_tear_faces_per_step,
         "an integer in 1.." + std::to_string(limits::max_tear_faces_per_step) + " (crack advances per substep)"));
   if (value.contains("max_faces"))
-    tearing.max_faces = reader.integer(value["max_faces"], child_path(path, "max_faces"), 1, limits::max_tear_faces,
-                                       "an integer in 1.." + std::to_string(limits::max_tear_faces) +
-                                           " (faces the cloth may tear to)");
+    tearing.max_faces =
+        reader.integer(value["max_faces"], child_path(path, "max_faces"), 1, limits::max_tear_faces,
+                       "an integer in 1.." + std::to_string(limits::max_tear_faces) + " (faces the cloth may tear to)");
   if (value.contains("weave")) {
     tearing.has_weave = true;
     tearing.weave = parse_weave(reader, value["weave"], child_path(path, "weave"));
@@ -312,8 +317,10 @@ TearingOptions parse_tearing(const Reader& reader, const json& value, const std:
   // A limit at or under 1 tears the cloth at rest: each factor must leave the limit above 1.
   const auto above_one = [&](const std::string& key, double factor, const std::string& what) {
     if (!(tearing.stretch * factor > 1))
-      reader.fail(child_path(path, key), what + " times stretch (" + shown(tearing.stretch) + ") must be over 1, or the "
-                                              "cloth tears at rest; got " + shown(tearing.stretch * factor));
+      reader.fail(child_path(path, key), what + " times stretch (" + shown(tearing.stretch) +
+                                             ") must be over 1, or the "
+                                             "cloth tears at rest; got " +
+                                             shown(tearing.stretch * factor));
   };
   above_one("seam_strength", tearing.seam_strength, "seam_strength (" + shown(tearing.seam_strength) + ")");
   if (tearing.has_weave)
@@ -325,6 +332,15 @@ TearingOptions parse_tearing(const Reader& reader, const json& value, const std:
   if (value.contains("strength_map"))
     tearing.strength_map = parse_strength_map(reader, value["strength_map"], child_path(path, "strength_map"));
   return tearing;
+}
+
+/// `colliders`: an array of colliders (`parse_collider`).
+std::vector<Collider> parse_colliders(const Reader& reader, const json& value, const std::string& path, int frames) {
+  if (!value.is_array()) reader.fail(path, "expected an array of colliders, got " + describe(value));
+  std::vector<Collider> colliders;
+  for (std::size_t i = 0; i < value.size(); ++i)
+    colliders.push_back(parse_collider(reader, value[i], child_path(path, i), frames));
+  return colliders;
 }
 
 /// `collision`: {"self": true, "thickness": T, "friction": F, "iterations": N}, each optional
@@ -367,12 +383,12 @@ SimulationOptions parse_simulation(const json& block, const std::string& script_
                        {"fps", "substeps", "iterations", "gravity", "damping", "density", "stretch_stiffness",
                         "bend_stiffness", "chebyshev", "pins", "colliders", "collision", "tearing"});
   if (block.contains("fps"))
-    options.fps = number_in(reader, block["fps"], child_path(root, "fps"), limits::min_fps, limits::max_fps,
-                            "frames per second");
+    options.fps =
+        number_in(reader, block["fps"], child_path(root, "fps"), limits::min_fps, limits::max_fps, "frames per second");
   const std::string substeps_range = "an integer in 1.." + std::to_string(limits::max_substeps);
   if (block.contains("substeps"))
-    options.substeps = static_cast<int>(reader.integer(block["substeps"], child_path(root, "substeps"), 1,
-                                                       limits::max_substeps, substeps_range));
+    options.substeps = static_cast<int>(
+        reader.integer(block["substeps"], child_path(root, "substeps"), 1, limits::max_substeps, substeps_range));
   const std::string iterations_range = "an integer in 1.." + std::to_string(limits::max_iterations);
   if (block.contains("iterations"))
     options.iterations = static_cast<int>(reader.integer(block["iterations"], child_path(root, "iterations"), 1,
@@ -382,8 +398,8 @@ SimulationOptions parse_simulation(const json& block, const std::string& script_
   if (per_frame > limits::max_iterations_per_frame)
     reader.fail(child_path(root, block.contains("iterations") ? "iterations" : "substeps"),
                 "substeps × iterations is " + std::to_string(per_frame) + " solver iterations per frame, more than " +
-                    std::to_string(limits::max_iterations_per_frame) + " (" + std::to_string(options.substeps) +
-                    " × " + std::to_string(options.iterations) + ")");
+                    std::to_string(limits::max_iterations_per_frame) + " (" + std::to_string(options.substeps) + " × " +
+                    std::to_string(options.iterations) + ")");
   if (block.contains("gravity")) {
     const std::string path = child_path(root, "gravity");
     options.gravity = reader.point<3>(block["gravity"], path);
@@ -407,16 +423,15 @@ SimulationOptions parse_simulation(const json& block, const std::string& script_
     const json& cheb = block["chebyshev"];
     reader.expect_object(cheb, path, {"rho", "gamma", "delay"});
     if (cheb.contains("rho"))
-      options.chebyshev.rho =
-          reader.number(cheb["rho"], child_path(path, "rho"), "a number in (0, 1)", [](double x) { return x > 0 && x < 1; });
+      options.chebyshev.rho = reader.number(cheb["rho"], child_path(path, "rho"), "a number in (0, 1)",
+                                            [](double x) { return x > 0 && x < 1; });
     if (cheb.contains("gamma"))
       options.chebyshev.gamma = reader.number(cheb["gamma"], child_path(path, "gamma"), "a number in (0, 1]",
                                               [](double x) { return x > 0 && x <= 1; });
     if (cheb.contains("delay"))
-      options.chebyshev.delay = static_cast<int>(reader.integer(cheb["delay"], child_path(path, "delay"), 0,
-                                                                limits::max_chebyshev_delay,
-                                                                "an integer in 0.." +
-                                                                    std::to_string(limits::max_chebyshev_delay)));
+      options.chebyshev.delay =
+          static_cast<int>(reader.integer(cheb["delay"], child_path(path, "delay"), 0, limits::max_chebyshev_delay,
+                                          "an integer in 0.." + std::to_string(limits::max_chebyshev_delay)));
   }
   if (block.contains("pins")) {
     const std::string path = child_path(root, "pins");
@@ -424,15 +439,11 @@ SimulationOptions parse_simulation(const json& block, const std::string& script_
     if (!pins.is_array()) reader.fail(path, "expected an array of pins, got " + describe(pins));
     if (pins.size() > static_cast<std::size_t>(limits::max_pins))
       reader.fail(path, "expected at most " + std::to_string(limits::max_pins) + " pins, got " + describe(pins));
-    for (std::size_t i = 0; i < pins.size(); ++i) options.pins.push_back(parse_pin(reader, pins[i], child_path(path, i)));
+    for (std::size_t i = 0; i < pins.size(); ++i)
+      options.pins.push_back(parse_pin(reader, pins[i], child_path(path, i)));
   }
-  if (block.contains("colliders")) {
-    const std::string path = child_path(root, "colliders");
-    const json& colliders = block["colliders"];
-    if (!colliders.is_array()) reader.fail(path, "expected an array of colliders, got " + describe(colliders));
-    for (std::size_t i = 0; i < colliders.size(); ++i)
-      options.colliders.push_back(parse_collider(reader, colliders[i], child_path(path, i), frames));
-  }
+  if (block.contains("colliders"))
+    options.colliders = parse_colliders(reader, block["colliders"], child_path(root, "colliders"), frames);
   if (block.contains("collision"))
     options.collision = parse_collision(reader, block["collision"], child_path(root, "collision"));
   if (block.contains("tearing")) options.tearing = parse_tearing(reader, block["tearing"], child_path(root, "tearing"));

@@ -82,6 +82,22 @@ std::string describe_assimp_error(std::string text) {
   return "cannot read: " + out;
 }
 
+/// Keeps the placements whose mesh or node is named `mesh_name`; none is an input error listing the
+/// names there are.
+void keep_named(const std::string& path, const std::string& mesh_name, std::vector<Placement>& placements) {
+  std::vector<std::string> names;
+  for (const Placement& p : placements) {
+    append_name(names, p.mesh->mName.C_Str());
+    append_name(names, p.node->mName.C_Str());
+  }
+  placements.erase(std::remove_if(placements.begin(), placements.end(),
+                                  [&](const Placement& p) {
+                                    return mesh_name != p.mesh->mName.C_Str() && mesh_name != p.node->mName.C_Str();
+                                  }),
+                   placements.end());
+  if (placements.empty()) throw no_mesh_named(path, mesh_name, names);
+}
+
 }  // namespace
 
 FileMesh read_assimp_file(const std::string& path, const std::string& mesh_name) {
@@ -100,8 +116,8 @@ FileMesh read_assimp_file(const std::string& path, const std::string& mesh_name)
   if (!scene) {
     // A file it names and may not read is the likely cause: said first.
     if (!files->refused().empty())
-      throw input_error(path, "cannot be read without " + files->refused() + ", which it names: " +
-                                  files->refused_why() + ", not opened (" +
+      throw input_error(path, "cannot be read without " + files->refused() +
+                                  ", which it names: " + files->refused_why() + ", not opened (" +
                                   describe_assimp_error(importer.GetErrorString()) + ")");
     throw input_error(path, describe_assimp_error(importer.GetErrorString()));
   }
@@ -114,19 +130,7 @@ FileMesh read_assimp_file(const std::string& path, const std::string& mesh_name)
                    placements.end());
   if (placements.empty()) throw input_error(path, "holds no triangles");
 
-  if (!mesh_name.empty()) {
-    std::vector<std::string> names;
-    for (const Placement& p : placements) {
-      append_name(names, p.mesh->mName.C_Str());
-      append_name(names, p.node->mName.C_Str());
-    }
-    placements.erase(std::remove_if(placements.begin(), placements.end(),
-                                    [&](const Placement& p) {
-                                      return mesh_name != p.mesh->mName.C_Str() && mesh_name != p.node->mName.C_Str();
-                                    }),
-                     placements.end());
-    if (placements.empty()) throw no_mesh_named(path, mesh_name, names);
-  }
+  if (!mesh_name.empty()) keep_named(path, mesh_name, placements);
 
   bool with_uv = false, with_normals = false;
   for (const Placement& p : placements) {
