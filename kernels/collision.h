@@ -196,7 +196,7 @@ struct Contact {
   float violation;
 };
 
-/// The pass's geometry of one pair. `strict`: crossings only (no thickness), for the final check.
+/// The pass's geometry of one pair.
 struct CollisionGeometry {
   CollisionVertices x;
   float thickness;
@@ -205,7 +205,7 @@ struct CollisionGeometry {
   static constexpr float crossing_slack = 0.1f;
 
   /// Node–face: p against triangle (a, b, c).
-  TEAR_HD Contact node_face(const index_t* v, bool strict) const {
+  TEAR_HD Contact node_face(const index_t* v) const {
     Contact k;
     Vec3f s0[4], s1[4];
     for (int i = 0; i < 4; ++i) s0[i] = x.x0(v[i]), s1[i] = x.x1(v[i]);
@@ -223,7 +223,7 @@ struct CollisionGeometry {
     const float sd1 = s * d1;
     Vec3f w;
     if (sd1 >= 0.0f) {
-      if (strict || !(sd1 < thickness)) return k;
+      if (!(sd1 < thickness)) return k;
       // Close on its own side: the projection must fall inside the triangle.
       w = closest_on_triangle(p1, a1, b1, c1);
       const Vec3f q = w.x * a1 + (w.y * b1 + w.z * c1);
@@ -233,27 +233,17 @@ struct CollisionGeometry {
     } else {
       // On the other side: a contact only if it went through the triangle during the substep.
       const Vec3f q0[4] = {a0, b0, c0, p0}, q1[4] = {a1, b1, c1, p1};
-      double times[3];
-      const int count = coplanar_times(q0, q1, times);
-      bool through = false;
-      for (int i = 0; i < count && !through; ++i) {
-        const float t = static_cast<float>(times[i]);
-        const Vec3f at = lerp(a0, a1, t), bt = lerp(b0, b1, t), ct = lerp(c0, c1, t), pt = lerp(p0, p1, t);
-        w = closest_on_triangle(pt, at, bt, ct);
-        const Vec3f q = w.x * at + (w.y * bt + w.z * ct);
-        through = norm(pt - q) <= crossing_slack * thickness;
-      }
-      if (!through) return k;
+      if (!first_meeting(q0, q1, false, w)) return k;
     }
     k.active = true;
     k.bary[0] = 1, k.bary[1] = -w.x, k.bary[2] = -w.y, k.bary[3] = -w.z;
     k.normal = s * n1;
-    k.violation = dot(p1 - (w.x * a1 + (w.y * b1 + w.z * c1)), k.normal) - (strict ? 0.0f : thickness);
+    k.violation = dot(p1 - (w.x * a1 + (w.y * b1 + w.z * c1)), k.normal) - thickness;
     return k;
   }
 
   /// Edge–edge: (p, q) against (r, u).
-  TEAR_HD Contact edge_edge(const index_t* v, bool strict) const {
+  TEAR_HD Contact edge_edge(const index_t* v) const {
     Contact k;
     Vec3f s0[4], s1[4];
     for (int i = 0; i < 4; ++i) s0[i] = x.x0(v[i]), s1[i] = x.x1(v[i]);
@@ -272,52 +262,35 @@ struct CollisionGeometry {
     const float sigma = g0 > 0.0f ? 1.0f : g0 < 0.0f ? -1.0f : (g1 >= 0.0f ? 1.0f : -1.0f);
     const float sg1 = sigma * g1;
     if (sg1 >= 0.0f) {
-      if (strict || !(sg1 < thickness)) return k;
+      if (!(sg1 < thickness)) return k;
       // Close: the closest points inside both edges (at an end, a node–face pair holds it).
       if (a <= 0.0f || a >= 1.0f || b <= 0.0f || b >= 1.0f) return k;
       const Vec3f gap = lerp(s1[2], s1[3], b) - lerp(s1[0], s1[1], a);
       if (norm(gap - dot(gap, n1) * n1) > crossing_slack * thickness) return k;
     } else {
       // Crossed: the edges met during the substep.
-      const Vec3f q0[4] = {s0[0], s0[1], s0[2], s0[3]}, q1[4] = {s1[0], s1[1], s1[2], s1[3]};
-      double times[3];
-      const int count = coplanar_times(q0, q1, times);
-      bool met = false;
-      for (int i = 0; i < count && !met; ++i) {
-        const float t = static_cast<float>(times[i]);
-        const Vec3f pt = lerp(s0[0], s1[0], t), qt = lerp(s0[1], s1[1], t), rt = lerp(s0[2], s1[2], t),
-                    ut = lerp(s0[3], s1[3], t);
-        float at, bt;
-        closest_on_segments(pt, qt, rt, ut, at, bt);
-        met = norm(lerp(rt, ut, bt) - lerp(pt, qt, at)) <= crossing_slack * thickness;
-        if (met) a = at, b = bt;
-      }
-      if (!met) return k;
+      Vec3f ab;
+      if (!first_meeting(s0, s1, true, ab)) return k;
+      a = ab.x, b = ab.y;
     }
     k.active = true;
     // The first side (p, q) is pushed along −normal... expressed as: normal from (r, u) to (p, q).
     k.normal = (-sigma) * n1;
     k.bary[0] = 1 - a, k.bary[1] = a, k.bary[2] = -(1 - b), k.bary[3] = -b;
     const Vec3f first = lerp(s1[0], s1[1], a), second = lerp(s1[2], s1[3], b);
-    k.violation = dot(first - second, k.normal) - (strict ? 0.0f : thickness);
+    k.violation = dot(first - second, k.normal) - thickness;
     return k;
   }
 
-  TEAR_HD Contact contact(const CollisionPair& pair, bool strict) const {
-    return pair.edge_edge ? edge_edge(pair.v, strict) : node_face(pair.v, strict);
+  TEAR_HD Contact contact(const CollisionPair& pair) const {
+    return pair.edge_edge ? edge_edge(pair.v) : node_face(pair.v);
   }
 
-  /// Whether the pair meets at some time of the substep (the continuous test alone, whatever the
-  /// sides): at a time the four points are coplanar, the node lies in the triangle (or the edges
-  /// cross), within the crossing slack.
-  TEAR_HD bool meets(const CollisionPair& pair) const {
-    Vec3f s0[4], s1[4];
-    for (int i = 0; i < 4; ++i) s0[i] = x.x0(pair.v[i]), s1[i] = x.x1(pair.v[i]);
-    // Coplanarity order: for a node and a face, the face's nodes first.
-    const Vec3f q0[4] = {s0[pair.edge_edge ? 0 : 1], s0[pair.edge_edge ? 1 : 2], s0[pair.edge_edge ? 2 : 3],
-                         s0[pair.edge_edge ? 3 : 0]};
-    const Vec3f q1[4] = {s1[pair.edge_edge ? 0 : 1], s1[pair.edge_edge ? 1 : 2], s1[pair.edge_edge ? 2 : 3],
-                         s1[pair.edge_edge ? 3 : 0]};
+  /// The first time of the substep at which four points moving from `q0` to `q1` meet: they are
+  /// coplanar and, there, the node q[3] lies in triangle (q[0], q[1], q[2]) (or, `edges`, the
+  /// segments (q[0], q[1]) and (q[2], q[3]) cross), within the crossing slack. The weights there go
+  /// to `w`: the triangle's, or the two segments' parameters in w.x and w.y.
+  TEAR_HD bool first_meeting(const Vec3f q0[4], const Vec3f q1[4], bool edges, Vec3f& w) const {
     double times[3];
     const int count = coplanar_times(q0, q1, times);
     const float slack = crossing_slack * thickness;
@@ -325,16 +298,28 @@ struct CollisionGeometry {
       const float t = static_cast<float>(times[i]);
       Vec3f q[4];
       for (int j = 0; j < 4; ++j) q[j] = lerp(q0[j], q1[j], t);
-      if (pair.edge_edge) {
+      if (edges) {
         float a, b;
         closest_on_segments(q[0], q[1], q[2], q[3], a, b);
+        w = {a, b, 0};
         if (norm(lerp(q[2], q[3], b) - lerp(q[0], q[1], a)) <= slack) return true;
       } else {
-        const Vec3f w = closest_on_triangle(q[3], q[0], q[1], q[2]);
+        w = closest_on_triangle(q[3], q[0], q[1], q[2]);
         if (norm(q[3] - (w.x * q[0] + (w.y * q[1] + w.z * q[2]))) <= slack) return true;
       }
     }
     return false;
+  }
+
+  /// Whether the pair meets at some time of the substep (`first_meeting`), whatever the sides.
+  TEAR_HD bool meets(const CollisionPair& pair) const {
+    Vec3f s0[4], s1[4];
+    for (int i = 0; i < 4; ++i) s0[i] = x.x0(pair.v[i]), s1[i] = x.x1(pair.v[i]);
+    Vec3f w;
+    if (pair.edge_edge) return first_meeting(s0, s1, true, w);
+    // A node and a face: the face's nodes first.
+    const Vec3f q0[4] = {s0[1], s0[2], s0[3], s0[0]}, q1[4] = {s1[1], s1[2], s1[3], s1[0]};
+    return first_meeting(q0, q1, false, w);
   }
 };
 
@@ -348,7 +333,7 @@ struct resolve_contacts {
   Vec3f* moves;
   TEAR_HD void operator()(index_t i) const {
     const CollisionPair& pair = pairs[i];
-    const Contact k = geometry.contact(pair, false);
+    const Contact k = geometry.contact(pair);
     for (int j = 0; j < 4; ++j) moves[4 * i + j] = Vec3f{0, 0, 0};
     if (!k.active || !(k.violation < 0.0f)) return;
     const CollisionVertices& x = geometry.x;

@@ -128,15 +128,8 @@ class CollisionJob {
                      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
       if (pairs == 0) break;
       const kernels::CollisionVertices x = vertices(cloth);
-      const auto t1 = std::chrono::steady_clock::now();
       build_csr_by_counting<System>(policy, kernels::ContactSlots{raw<kernels::CollisionPair>(pairs_), x}, 4 * pairs,
                                     nodes, -1, tally_, slot_offset_, slots_);
-      if (debug) {
-        Traits<System>::synchronize();
-        std::fprintf(stderr, "collision: csr %.3f ms\n",
-                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count());
-      }
-      const auto t2 = std::chrono::steady_clock::now();
       resize_for_overwrite(moves_, 4 * static_cast<std::size_t>(pairs));
       const kernels::CollisionGeometry geometry{x, static_cast<float>(o.thickness)};
       for (int r = 0; r < o.iterations; ++r) {
@@ -147,11 +140,6 @@ class CollisionJob {
             nodes, kernels::apply_contact_moves{raw<index_t>(slot_offset_), raw<index_t>(slots_),
                                                 raw<kernels::Vec3f>(moves_), raw<kernels::PdCollider>(colliders_),
                                                 static_cast<index_t>(colliders.size()), raw<float>(cloth.node_pos)});
-      }
-      if (debug) {
-        Traits<System>::synchronize();
-        std::fprintf(stderr, "collision: rounds %.3f ms\n",
-                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t2).count());
       }
       crossing = thrust::transform_reduce(policy, zero, zero + pairs,
                                           kernels::crossing_of{geometry, raw<kernels::CollisionPair>(pairs_)},
@@ -221,10 +209,9 @@ class CollisionJob {
     for (auto [time, host, device] :
          {std::make_tuple(start, &body_host_x0_, &body_x0_), std::make_tuple(end, &body_host_x1_, &body_x1_)}) {
       host->clear();
-      std::vector<float> one;
       for (const Collider* c : bodies_) {
-        collider_positions(*c, time, one);
-        host->insert(host->end(), one.begin(), one.end());
+        collider_positions(*c, time, body_one_);
+        host->insert(host->end(), body_one_.begin(), body_one_.end());
       }
       assign_from_host(*device, *host);
     }
@@ -294,7 +281,7 @@ class CollisionJob {
   std::vector<const Collider*> bodies_;  // the mesh colliders, in the script's order
   index_t body_vertex_count_ = 0, body_face_count_ = 0, body_edge_count_ = 0;
   vec<index_t> body_faces_, body_edges_;
-  std::vector<float> body_host_x0_, body_host_x1_;
+  std::vector<float> body_host_x0_, body_host_x1_, body_one_;  // kept: filled every substep
   vec<float> body_x0_, body_x1_;
   kernels::CollisionGrid grid_{};
   vec<float> x0_, solved_;
