@@ -133,11 +133,11 @@ struct ExternalFiles {
   std::map<std::string, std::pair<std::string, bool>> allowed;
 };
 
-/// Checks the uri of `buffers[index]` or `images[index]` and adds it to `files`.
-void allow_uri(const std::string& base_dir, const std::string& kind, std::size_t index, const std::string& uri,
-               std::uint64_t byte_length, ExternalFiles& files) {
+/// Checks the uri of the buffer, image or shader `name` ("buffer 0"; glTF 1.0 names them: "buffer
+/// b") and adds it to `files`; a buffer's file must have `byte_length` bytes where that is known.
+void allow_uri(const std::string& base_dir, const std::string& kind, const std::string& name, const std::string& uri,
+               std::optional<std::uint64_t> byte_length, ExternalFiles& files) {
   const std::string& path = files.gltf;
-  const std::string name = kind + " " + std::to_string(index);
   const std::string decoded = decode_uri(uri);
   auto refuse = [&](const std::string& why) { return input_error(path, name + ": " + why); };
   const std::string rule = "a uri must be a relative path to a file in the folder of the glTF or below";
@@ -158,34 +158,45 @@ void allow_uri(const std::string& base_dir, const std::string& kind, std::size_t
     throw refuse("the uri does not name a regular file in the folder of the glTF or below (" + rule + ")");
   if (static_cast<std::uint64_t>(s.st_size) > max_input_bytes())
     throw refuse("its file is over the limit of " + std::to_string(max_input_bytes()) + " bytes (--max-input-bytes)");
-  if (kind == "buffer" && static_cast<std::uint64_t>(s.st_size) != byte_length)
-    throw refuse("its file does not have the buffer's byteLength of " + std::to_string(byte_length) + " bytes");
+  if (kind == "buffer" && byte_length && static_cast<std::uint64_t>(s.st_size) != *byte_length)
+    throw refuse("its file does not have the buffer's byteLength of " + std::to_string(*byte_length) + " bytes");
   auto& entry = files.allowed[asked];
   entry.first = target;
   entry.second = entry.second || kind == "buffer";
 }
 
-/// Every external uri of the document in `json` checked (data: URIs are tinygltf's to decode).
+/// Every external uri of the document in `json` checked (data: URIs are tinygltf's to decode):
+/// glTF 2.0's arrays of buffers and images, and glTF 1.0's objects of named buffers, images and
+/// shaders, whose files assimp would otherwise be the first to look for (it reads glTF 1.0).
 ExternalFiles external_files(const std::string& path, const char* json, std::size_t size) {
   ExternalFiles files;
   files.gltf = path;
   nlohmann::json document = nlohmann::json::parse(json, json + size, nullptr, false);
   if (!document.is_object()) return files;  // tinygltf says what is wrong
   const std::string base_dir = std::filesystem::path(path).parent_path().string();
-  for (const char* kind : {"buffers", "images"}) {
-    const auto list = document.find(kind);
-    if (list == document.end() || !list->is_array()) continue;
-    for (std::size_t i = 0; i < list->size(); ++i) {
-      const nlohmann::json& item = (*list)[i];
-      if (!item.is_object()) continue;
-      const auto uri = item.find("uri");
-      if (uri == item.end() || !uri->is_string()) continue;
-      const std::string& text = uri->get_ref<const std::string&>();
-      if (text.empty() || text.compare(0, 5, "data:") == 0) continue;
+  const auto check = [&](const std::string& kind, const std::string& name, const nlohmann::json& item, bool glTF2) {
+    if (!item.is_object()) return;
+    const auto uri = item.find("uri");
+    if (uri == item.end() || !uri->is_string()) return;
+    const std::string& text = uri->get_ref<const std::string&>();
+    if (text.empty() || text.compare(0, 5, "data:") == 0) return;
+    // A glTF 2.0 buffer's file has its byteLength (a missing one reads as 0); glTF 1.0's are
+    // assimp's to check.
+    std::optional<std::uint64_t> byte_length;
+    if (glTF2) {
       const auto length = item.find("byteLength");
-      const std::uint64_t byte_length =
-          length != item.end() && length->is_number_unsigned() ? length->get<std::uint64_t>() : 0;
-      allow_uri(base_dir, std::string(kind) == "buffers" ? "buffer" : "image", i, text, byte_length, files);
+      byte_length = length != item.end() && length->is_number_unsigned() ? length->get<std::uint64_t>() : 0;
+    }
+    allow_uri(base_dir, kind, kind + " " + name, text, byte_length, files);
+  };
+  for (const char* list_name : {"buffers", "images", "shaders"}) {
+    const std::string kind = std::string(list_name) == "buffers" ? "buffer" : list_name[0] == 'i' ? "image" : "shader";
+    const auto list = document.find(list_name);
+    if (list == document.end()) continue;
+    if (list->is_array() && kind != "shader") {
+      for (std::size_t i = 0; i < list->size(); ++i) check(kind, std::to_string(i), (*list)[i], true);
+    } else if (list->is_object()) {
+      for (const auto& item : list->items()) check(kind, one_line(item.key()), item.value(), false);
     }
   }
   return files;
