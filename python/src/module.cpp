@@ -240,6 +240,45 @@ struct PyCloth {
   int frames_stepped = 0;
 };
 
+/// The cloth's positions where the backend keeps them, as a DLPack capsule (which PyTorch, CuPy and
+/// NumPy take without a copy; `tear.Cloth.positions` wraps it in the DLPack protocol).
+nb::ndarray<float, nb::ndim<2>, nb::c_contig> cloth_positions(nb::handle self) {
+  PyCloth& c = nb::cast<PyCloth&>(self);
+  const bool gpu = c.cloth->device() == tear::Device::cuda;
+  const float* data = nullptr;
+  {
+    nb::gil_scoped_release release;
+    data = c.cloth->node_pos_data();
+  }
+  // The owner is the Python cloth: an array a consumer took keeps it alive (not its buffer, which
+  // the next cut or step may move: docs/python.md says so). DLPack before its version 1 has no
+  // read-only flag, so the array is writable; it is documented to be read.
+  return nb::ndarray<float, nb::ndim<2>, nb::c_contig>(
+      const_cast<float*>(data), {static_cast<std::size_t>(c.cloth->node_count()), 3}, self, {}, nb::dtype<float>(),
+      gpu ? nb::device::cuda::value : nb::device::cpu::value, gpu ? std::max(0, tear::current_gpu()) : 0);
+}
+
+/// Positions from the host or, for a cloth on the GPU, from the same GPU's memory.
+void set_cloth_positions(PyCloth& c, const nb::ndarray<const float, nb::ndim<2>, nb::c_contig>& points) {
+  const std::size_t nodes = static_cast<std::size_t>(c.cloth->node_count());
+  if (points.shape(0) != nodes || points.shape(1) != 3)
+    throw tear::Error(tear::ErrorKind::usage, "points: expected shape (" + std::to_string(nodes) + ", 3), got (" +
+                                                  std::to_string(points.shape(0)) + ", " +
+                                                  std::to_string(points.shape(1)) + ")");
+  const bool gpu = c.cloth->device() == tear::Device::cuda;
+  if (points.device_type() == nb::device::cuda::value) {
+    if (!gpu)
+      throw tear::Error(tear::ErrorKind::usage, "points: a GPU array for a cloth on the CPU; copy it to the host first");
+    if (points.device_id() != tear::current_gpu())
+      throw tear::Error(tear::ErrorKind::usage, "points: an array on GPU " + std::to_string(points.device_id()) +
+                                                    " for a cloth on GPU " + std::to_string(tear::current_gpu()));
+  } else if (points.device_type() != nb::device::cpu::value) {
+    throw tear::Error(tear::ErrorKind::usage, "points: expected an array in host or CUDA memory");
+  }
+  nb::gil_scoped_release release;
+  c.cloth->copy_node_pos_from(points.data());
+}
+
 tear::CutSpace parse_space(const std::string& space) {
   if (space == "uv") return tear::CutSpace::uv;
   if (space == "rest-xy") return tear::CutSpace::rest_xy;
@@ -483,6 +522,13 @@ NB_MODULE(_tear, m) {
                                       "stiffness or raise the substeps or iterations");
         }
       })
+      .def("_positions", &cloth_positions)
+      .def("_positions_device", [](const PyCloth& c) {
+        const bool gpu = c.cloth->device() == tear::Device::cuda;
+        return std::make_pair(gpu ? static_cast<int>(nb::device::cuda::value) : static_cast<int>(nb::device::cpu::value),
+                              gpu ? std::max(0, tear::current_gpu()) : 0);
+      })
+      .def("_set_positions", &set_cloth_positions, "points"_a.noconvert())
       .def("_mesh", [](const PyCloth& c) {
         auto out = std::make_unique<PyMesh>();
         {

@@ -24,7 +24,7 @@ __version__ = _tear.__version__
 
 __all__ = [
     "__version__", "Error", "UsageError", "BadInput", "RuntimeFailure", "Interrupted",
-    "Mesh", "Frame", "Script", "Cloth", "FrameIterator", "read_mesh", "run", "cuda_available",
+    "Mesh", "Frame", "Script", "Cloth", "DeviceArray", "FrameIterator", "read_mesh", "run", "cuda_available",
 ]
 
 
@@ -197,6 +197,41 @@ def run(mesh, script, *, device="auto", start_frame=1, frames=None, output=None,
         int(writer_threads))
 
 
+class DeviceArray:
+    """A cloth's positions where its backend keeps them (``Cloth.positions``), through the DLPack
+    protocol: ``__dlpack__`` and ``__dlpack_device__`` (``(2, gpu)`` for CUDA, ``(1, 0)`` for the
+    CPU). Hand it to ``torch.from_dlpack``, ``cupy.from_dlpack`` or ``numpy.from_dlpack``; on the
+    CPU ``numpy.asarray`` takes it too. ``shape`` is ``(node_count, 3)``, ``dtype`` ``"float32"``."""
+
+    __slots__ = ("_handle", "shape")
+    dtype = "float32"
+
+    def __init__(self, handle):
+        self._handle = handle
+        self.shape = (handle.node_count, 3)
+
+    def __dlpack__(self, *, stream=None, max_version=None, dl_device=None, copy=None):
+        # The cloth's queued work is waited for before the capsule is made, so it is ready on any
+        # stream the consumer names.
+        if copy:
+            raise BufferError("tear: Cloth.positions is handed out without a copy (copy=True asked)")
+        return self._handle._positions()
+
+    def __dlpack_device__(self):
+        return tuple(self._handle._positions_device())
+
+    def __array__(self, dtype=None, copy=None):
+        import numpy
+        if self.__dlpack_device__()[0] != 1:
+            raise TypeError("tear: the positions are in GPU memory; use cloth.mesh().points for a host copy")
+        array = numpy.from_dlpack(self)
+        return array if dtype is None else array.astype(dtype, copy=bool(copy))
+
+    def __repr__(self):
+        where = "cuda:%d" % self.__dlpack_device__()[1] if self.__dlpack_device__()[0] == 2 else "cpu"
+        return "<tear.DeviceArray %s float32 on %s>" % (self.shape, where)
+
+
 class Cloth:
     """A cloth held on a backend, cut and stepped in place.
 
@@ -233,6 +268,27 @@ class Cloth:
         """A copy of the cloth's mesh now, on the host (normals recomputed once it has moved, as
         ``tear run`` writes them)."""
         return self._handle._mesh()
+
+    @property
+    def positions(self):
+        """The positions where the backend keeps them, without a copy: a ``(node_count, 3)``
+        float32 array in GPU memory on ``"cuda"`` (host memory on ``"cpu"``) that
+        ``torch.from_dlpack``, ``cupy.from_dlpack`` or ``numpy.from_dlpack`` takes through DLPack
+        (a ``DeviceArray``). Read it, do not write it (``set_positions`` does that); it is valid
+        until the cloth next changes (``cut``, ``step``, ``set_positions``), which may move the
+        buffer."""
+        return DeviceArray(self._handle)
+
+    def set_positions(self, points):
+        """Replaces the positions (velocities and rest shape stay) with a ``(node_count, 3)``
+        array: NumPy or anything that speaks DLPack, float32 and C-contiguous, in host memory or,
+        for a cloth on ``"cuda"``, in the same GPU's memory (copied there without a trip through
+        the host). Lists and NumPy arrays of other dtypes are converted. ``UsageError`` for a wrong
+        shape or device."""
+        if not hasattr(points, "__dlpack__") or type(points).__module__ == "numpy":
+            import numpy
+            points = numpy.ascontiguousarray(points, dtype=numpy.float32)
+        self._handle._set_positions(points)
 
     def __repr__(self):
         return f"<tear.Cloth {self.node_count} nodes, {self.face_count} faces on {self.device}>"

@@ -8,9 +8,11 @@ Checks that frames from Python, once written, are byte-identical to `tear run`'s
 inputs (OBJ, PLY, GLB and per-frame USD layers; a cut-only and a simulated script), and so is a
 whole run written by `tear.run(..., output=...)`; the arrays' dtypes, shapes and read-only flags,
 and that they view the frame's buffers without a copy; every error class, with the CLI's message;
-memory flat over 1,000 frames iterated; a DLPack round trip with NumPy; `tear.Cloth`; scripts
-from dicts of many shapes (the examples, nested simulation blocks, ints as floats, bools, keys that
-are not strings, deep nesting) against the same scripts read from files.
+memory flat over 1,000 frames iterated; a DLPack round trip with NumPy; `tear.Cloth`, and its
+positions through DLPack both ways (NumPy; PyTorch and CuPy on a GPU where they are installed,
+skipped otherwise); scripts from dicts of many shapes (the examples, nested simulation blocks,
+ints as floats, bools, keys that are not strings, deep nesting) against the same scripts read
+from files.
 
 Exit 0 when every check holds, 1 when one fails. `--missing` (what CMake runs where the module
 could not be built: no nanobind or no Python headers) exits 77, skipped, with REASON, unless
@@ -442,6 +444,63 @@ class ClothApi(Work):
         self.assertFalse(np.array_equal(moved.points, rest))
         moved.write(self.path("moved.ply"))
         self.assertEqual(tear.read_mesh(self.path("moved.ply")).node_count, moved.node_count)
+
+    def test_positions_round_trip_on_the_cpu(self):
+        cloth = tear.Cloth(MESH, device="cpu", script=SIMULATED)
+        cloth.step(frames=2)
+        positions = cloth.positions
+        self.assertEqual(positions.__dlpack_device__(), (1, 0))
+        points = np.from_dlpack(positions)
+        self.assertEqual(points.dtype, np.float32)
+        self.assertEqual(points.shape, (cloth.node_count, 3))
+        self.assertTrue(np.array_equal(points, cloth.mesh().points))
+        self.assertTrue(np.shares_memory(points, np.from_dlpack(cloth.positions)))  # the same buffer, no copy
+        # Back in, moved: the mesh shows them; NumPy float64 and lists are converted.
+        moved = points.astype(np.float64) + [0.0, 0.0, 0.25]
+        cloth.set_positions(moved)
+        self.assertTrue(np.array_equal(cloth.mesh().points, moved.astype(np.float32)))
+        cloth.set_positions(moved.tolist())
+        self.assertTrue(np.array_equal(cloth.mesh().points, moved.astype(np.float32)))
+        with self.assertRaisesRegex(tear.UsageError, r"^points: expected shape \(%d, 3\), got \(2, 3\)$"
+                                    % cloth.node_count):
+            cloth.set_positions(np.zeros((2, 3), np.float32))
+        cloth.step()  # stepped on from the positions given
+        self.assertTrue(np.isfinite(cloth.mesh().points).all())
+
+    def test_positions_round_trip_on_the_gpu(self):
+        """PyTorch and CuPy read the positions in GPU memory without a copy, and hand them back."""
+        if not tear.cuda_available():
+            self.skipTest("no usable GPU")
+        peers = []
+        try:
+            import torch
+            if torch.cuda.is_available():
+                peers.append(("torch", lambda a: torch.from_dlpack(a), lambda t: t.data_ptr(),
+                              lambda t: t.cpu().numpy()))
+        except ImportError:
+            pass
+        try:
+            import cupy
+            peers.append(("cupy", lambda a: cupy.from_dlpack(a), lambda t: t.data.ptr, lambda t: cupy.asnumpy(t)))
+        except ImportError:
+            pass
+        if not peers:
+            self.skipTest("neither PyTorch with CUDA nor CuPy is installed")
+        for name, take, address, to_host in peers:
+            with self.subTest(peer=name):
+                cloth = tear.Cloth(MESH, device="cuda", script=SIMULATED)
+                cloth.step(frames=2)
+                self.assertEqual(cloth.positions.__dlpack_device__()[0], 2)  # kDLCUDA
+                on_gpu = take(cloth.positions)
+                self.assertEqual(address(on_gpu), address(take(cloth.positions)))  # no copy
+                self.assertTrue(np.array_equal(to_host(on_gpu), cloth.mesh().points))
+                moved = on_gpu * 2 + 1  # a new array on the GPU
+                expected = to_host(moved)
+                cloth.set_positions(moved)
+                self.assertTrue(np.array_equal(cloth.mesh().points, expected))
+                cloth.set_positions(expected)  # from the host too
+                self.assertTrue(np.array_equal(to_host(take(cloth.positions)), expected))
+                print("positions round trip on the GPU with %s" % name)
 
     def test_step_without_simulation(self):
         cloth = tear.Cloth(tear.read_mesh(MESH), device="cpu")

@@ -174,6 +174,17 @@ class Cloth {
   /// Replaces the positions and velocities, both [node_count * 3] (a usage `Error` otherwise), from
   /// the host; rest positions stay.
   void set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel);
+  /// The positions where the backend keeps them, [node_count * 3] floats (x, y, z per node): GPU
+  /// memory of the cloth's GPU on Device::cuda, host memory on Device::cpu; the work queued so far
+  /// is waited for first. For reading without a copy (the Python module hands it out through
+  /// DLPack); valid until the cloth next changes (a cut, a step, `load_state`, `set_node_state`,
+  /// `copy_node_pos_from`) or ends.
+  const float* node_pos_data() const;
+  /// Replaces the positions with the [node_count * 3] floats at `data`; velocities and rest
+  /// positions stay. On Device::cuda `data` may be GPU memory of the cloth's GPU or host memory,
+  /// on Device::cpu host memory. Returns once copied (a runtime `Error` where the GPU cannot read
+  /// `data`).
+  void copy_node_pos_from(const float* data);
   /// Everything the cloth holds that a later run needs to go on bit-exactly (model, state, carried
   /// attributes), as bytes: `load_state` on a cloth made from the same mesh and simulated with the
   /// same options gives back the same cloth, on the same backend the same frames after it.

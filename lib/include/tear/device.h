@@ -40,6 +40,10 @@ class DeviceWarmUp {
 /// "cpu" or "cuda".
 const char* to_string(Device device);
 
+/// The GPU that work on Device::cuda goes to from this thread (CUDA's current device; `--device
+/// cuda:N` selects it), or -1 where there is none (a CPU-only build, no usable GPU).
+int current_gpu();
+
 /// A human-readable name of the hardware: the GPU's name, or "CPU (N threads)".
 std::string device_name(Device device);
 

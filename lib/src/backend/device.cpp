@@ -115,6 +115,15 @@ void synchronize(Device device) {
 
 const char* to_string(Device device) { return device == Device::cuda ? "cuda" : "cpu"; }
 
+int current_gpu() {
+#if TEAR_WITH_CUDA
+  int ordinal = -1;
+  if (cudaGetDevice(&ordinal) == cudaSuccess) return ordinal;
+  cudaGetLastError();
+#endif
+  return -1;
+}
+
 std::string device_name(Device device) {
 #if TEAR_WITH_CUDA
   if (device == Device::cuda) {

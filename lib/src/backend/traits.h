@@ -55,6 +55,10 @@ struct Traits<Omp> {
   static void free_staging(void* p, std::size_t) { std::free(p); }
   static void copy_to_staging(void* host, const void* from, std::size_t n) { std::memcpy(host, from, n); }
   static void copy_from_staging(void* to, const void* host, std::size_t n) { std::memcpy(to, host, n); }
+  /// Bytes from memory the backend can read into its own (`Cloth::copy_node_pos_from`).
+  static void copy_in(void* to, const void* from, std::size_t n) {
+    if (n > 0) std::memcpy(to, from, n);
+  }
   /// A point in the backend's queue that the host can wait for (`Upload`): on the CPU, passed when
   /// recorded.
   class QueuePoint {
@@ -169,6 +173,15 @@ struct Traits<Cuda> {
     if (status != cudaSuccess) {
       cudaGetLastError();
       throw std::bad_alloc();
+    }
+  }
+  /// Bytes from GPU or host memory (unified addressing tells which) into the GPU's.
+  static void copy_in(void* to, const void* from, std::size_t n) {
+    if (n == 0) return;
+    const cudaError_t status = cudaMemcpyAsync(to, from, n, cudaMemcpyDefault, 0);
+    if (status != cudaSuccess) {
+      cudaGetLastError();
+      throw Error(ErrorKind::runtime, std::string("cannot copy the positions in: ") + cudaGetErrorString(status));
     }
   }
   /// A CUDA event in the default stream, made on its first record; `record` returns false (and

@@ -41,6 +41,11 @@ Topology Cloth::topology() const { return engine_->topology(); }
 std::vector<float> Cloth::node_pos() const { return engine_->node_pos(); }
 std::vector<float> Cloth::node_rest() const { return engine_->node_rest(); }
 std::vector<float> Cloth::node_vel() const { return engine_->node_vel(); }
+const float* Cloth::node_pos_data() const { return engine_->node_pos_data(); }
+void Cloth::copy_node_pos_from(const float* data) {
+  if (data == nullptr && node_count() > 0) throw Error(ErrorKind::usage, "Cloth::copy_node_pos_from: no data");
+  engine_->copy_node_pos_from(data);
+}
 CutProvenance Cloth::provenance() const { return engine_->provenance(); }
 std::vector<std::uint8_t> Cloth::node_pinned() const { return engine_->node_pinned(); }
 void Cloth::simulate(const SimulationOptions& options) { engine_->simulate(options); }

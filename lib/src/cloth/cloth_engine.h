@@ -41,6 +41,8 @@ class Cloth::Engine {
   virtual void load_state(const std::string& state, const std::string& source) = 0;
   /// Sizes already checked by `Cloth::set_node_state`.
   virtual void set_node_state(const std::vector<float>& node_pos, const std::vector<float>& node_vel) = 0;
+  virtual const float* node_pos_data() const = 0;
+  virtual void copy_node_pos_from(const float* data) = 0;
 };
 
 namespace backend {

@@ -137,6 +137,15 @@ class ClothEngine final : public Cloth::Engine {
     thrust::copy(node_vel.begin(), node_vel.end(), cloth_.node_vel.begin());
   }
 
+  const float* node_pos_data() const override {
+    Traits<System>::synchronize();
+    return raw<float>(cloth_.node_pos);
+  }
+  void copy_node_pos_from(const float* data) override {
+    Traits<System>::copy_in(raw<float>(cloth_.node_pos), data, cloth_.node_pos.size() * sizeof(float));
+    Traits<System>::synchronize();
+  }
+
  private:
   /// The pieces after a cut or tear: each face's carried id renumbered for the pieces it is in now.
   void renumber_pieces_now() {
