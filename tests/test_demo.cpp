@@ -226,19 +226,24 @@ TEST_CASE("demo --scene punch: the sphere tears a hole, the same bytes twice", "
   const Run a = run_scene(dir, "punch", "a");
   INFO(a.err);
   REQUIRE(a.exit_code == 0);
+#if !defined(TEAR_SANITIZED)
+  // The sanitizers look at the code, which one run goes through (the other builds compare two).
   REQUIRE(run_scene(dir, "punch", "b").exit_code == 0);
+#endif
   check_frames_valid(dir / "a");
   CHECK(tear_events(dir / "a" / "report.json") > 0);
   const tear::Mesh first = tear::read_mesh(frame_file(dir / "a", 1).string());
   const tear::Mesh last = tear::read_mesh(frame_file(dir / "a", tear::demo_frames).string());
   INFO("boundary edges " << boundary_edges(first) << " -> " << boundary_edges(last));
   CHECK(boundary_edges(last) > boundary_edges(first));
+#if !defined(TEAR_SANITIZED)
   for (int frame = 1; frame <= tear::demo_frames; ++frame) {
     INFO("frame " << frame);
     const std::string bytes = read_bytes(frame_file(dir / "a", frame));
     REQUIRE_FALSE(bytes.empty());
     CHECK(bytes == read_bytes(frame_file(dir / "b", frame)));
   }
+#endif
 }
 
 TEST_CASE("demo: a wrong scene is a usage error on one line, nothing written", "[run]") {
