@@ -175,10 +175,12 @@ struct intersect_cuts {
     return pairs;
   }
 
-  /// The polyline at global parameter s (segment index + local parameter).
+  /// The polyline at global parameter s (segment index + local parameter); before its start and
+  /// past its end (an unbounded cut's extensions, which reach any distance) along its first and
+  /// last segments. The segment is picked in double: past the end `s` may exceed any index.
   TEAR_HD static Vec2 polyline_point(const CutPath& cut, const double* px, const double* py, double s) {
-    index_t i = s < 0 ? 0 : static_cast<index_t>(s);
-    if (i > cut.point_count - 2) i = cut.point_count - 2;
+    const index_t last = cut.point_count - 2;
+    const index_t i = !(s >= 0) ? 0 : s >= static_cast<double>(last) ? last : static_cast<index_t>(s);
     const double u = s - i;
     const index_t pi = cut.point_begin + i;
     return {px[pi] + u * (px[pi + 1] - px[pi]), py[pi] + u * (py[pi + 1] - py[pi])};
