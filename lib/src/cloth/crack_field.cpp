@@ -111,7 +111,6 @@ CrackField::CrackField(CrackMesh mesh, const TearingOptions& options) : m_(std::
   face_centroid_.resize(faces);
   face_normal_.resize(faces);
   face_area_.resize(faces);
-  node_angle_.assign(nodes, 0);
   for (index_t f = 0; f < faces; ++f) {
     Vec3 X[3];
     for (int k = 0; k < 3; ++k) X[k] = rest(m_.face_nodes[3 * f + k]);
@@ -120,11 +119,6 @@ CrackField::CrackField(CrackMesh mesh, const TearingOptions& options) : m_(std::
     face_area_[f] = 0.5 * norm(n);
     total_area_ += face_area_[f];
     face_normal_[f] = unit(n);
-    for (int k = 0; k < 3; ++k) {
-      const Vec3 a = sub(X[(k + 1) % 3], X[k]), b = sub(X[(k + 2) % 3], X[k]);
-      const double c = dot(a, b) / std::max(norm(a) * norm(b), 1e-300);
-      node_angle_[m_.face_nodes[3 * f + k]] += std::acos(std::max(-1.0, std::min(1.0, c)));
-    }
   }
   // The smoothing disc spans a face at least, so a coarse mesh still averages a neighbourhood.
   double edges = 0;
@@ -190,8 +184,20 @@ void CrackField::build_border() {
       border_edges_.push_back(e);
     }
   std::sort(border_edges_.begin(), border_edges_.end());
+  // The rest angle sums of the border nodes (a tip's passes 1.5π); the nodes inside need none.
+  std::vector<double> node_angle(nodes, 0.0);
+  for (index_t f = 0; f < faces; ++f)
+    for (int k = 0; k < 3; ++k) {
+      const index_t n = m_.face_nodes[3 * f + k];
+      if (border_next_[n] < 0) continue;
+      const Vec3 X = rest(n);
+      const Vec3 a = sub(rest(m_.face_nodes[3 * f + (k + 1) % 3]), X);
+      const Vec3 b = sub(rest(m_.face_nodes[3 * f + (k + 2) % 3]), X);
+      const double c = dot(a, b) / std::max(norm(a) * norm(b), 1e-300);
+      node_angle[n] += std::acos(std::max(-1.0, std::min(1.0, c)));
+    }
   for (index_t n = 0; n < nodes; ++n)
-    if (border_next_[n] >= 0 && border_prev_[n] >= 0 && node_angle_[n] > 1.5 * pi) tips_.push_back(n);
+    if (border_next_[n] >= 0 && border_prev_[n] >= 0 && node_angle[n] > 1.5 * pi) tips_.push_back(n);
   // Seams: inner edges whose two faces give a shared node different UVs.
   edge_seam_.assign(m_.topo.edge_count, 0);
   if (m_.corner_uv.empty() || options_.seam_strength == 1) return;

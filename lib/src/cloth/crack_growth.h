@@ -137,7 +137,7 @@ class CrackField {
   CrackMesh m_;
   TearingOptions options_;
   std::vector<Vec3> face_centroid_, face_normal_;
-  std::vector<double> face_area_, node_angle_;
+  std::vector<double> face_area_;
   std::vector<index_t> border_next_, border_prev_;  // [node_count] along the border, or -1
   std::vector<std::uint8_t> border_torn_;           // [node_count] the border edge to border_next_ is a cut or tear
   std::vector<index_t> border_edges_;
