@@ -1,5 +1,6 @@
 // The `tear` command line: the app, its subcommands, and the one place where exceptions become
 // exit codes (0 ok, 1 usage, 2 bad input, 3 runtime failure, 4 interrupted, 5 meshes differ) and one-line messages.
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <iostream>
@@ -17,6 +18,28 @@ namespace {
 
 int fail(int code, const std::string& message) {
   std::cerr << "tear: " << tear::cli::one_line(message) << std::endl;
+  return code;
+}
+
+#if defined(__SANITIZE_ADDRESS__)
+#define TEAR_CHECK_LEAKS_AT_EXIT 1
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+#define TEAR_CHECK_LEAKS_AT_EXIT 1
+#endif
+#endif
+
+/// Ends a failed command with `code` once what it printed is out. By then every scope of the
+/// command has been left (its threads joined, its files closed or removed); what is left to run
+/// are the libraries' handlers at exit, which have nothing to add and must not turn the documented
+/// code into another. A sanitized build returns instead, so that LeakSanitizer's check at exit runs.
+int end_failed(int code) {
+#if !defined(TEAR_CHECK_LEAKS_AT_EXIT)
+  std::cout.flush();
+  std::cerr.flush();
+  std::fflush(nullptr);
+  std::_Exit(code);
+#endif
   return code;
 }
 
@@ -73,11 +96,11 @@ int main(int argc, char** argv) {
     return 0;
   } catch (const CLI::ParseError& e) {
     if (e.get_exit_code() == static_cast<int>(CLI::ExitCodes::Success)) return app.exit(e);  // --help, --version
-    return fail(1, e.what() + help_hint(app));
+    return end_failed(fail(1, e.what() + help_hint(app)));
   } catch (const tear::cli::ExitCode& e) {
-    return e.code;  // the command has said what it had to
+    return end_failed(e.code);  // the command has said what it had to
   } catch (...) {
     const tear::cli::Failure failure = tear::cli::current_failure();
-    return fail(failure.code, failure.message);
+    return end_failed(fail(failure.code, failure.message));
   }
 }
