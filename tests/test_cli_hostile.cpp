@@ -241,6 +241,16 @@ TEST_CASE("assimp: the files a mesh names are opened only inside its folder", "[
     INFO(uri);
     check_refused(timed_tear(dir, "info asset/bad.gltf"), 2, "asset/bad.gltf: buffer b: the uri ");
   }
+  // Its images and shaders too (assimp would look for them), each named by its key.
+  std::string with_image = triangle_gltf1("ok.bin");
+  with_image.insert(with_image.size() - 1, R"(, "images": {"skin": {"uri": "../secret.bin"}})");
+  dir.file("asset/image.gltf", with_image);
+  check_refused(timed_tear(dir, "info asset/image.gltf"), 2, "asset/image.gltf: image skin: the uri goes up with '..'");
+  std::string with_shader = triangle_gltf1("ok.bin");
+  with_shader.insert(with_shader.size() - 1, R"(, "shaders": {"vs": {"uri": "fifo.bin", "type": 35633}})");
+  dir.file("asset/shader.gltf", with_shader);
+  check_refused(timed_tear(dir, "info asset/shader.gltf"), 2,
+                "asset/shader.gltf: shader vs: the uri does not name a regular file in the folder of the glTF or below");
   // A run reads the mesh the same way: refused before anything is written.
   dir.file("asset/bad.gltf", triangle_gltf1("../outside.bin"));
   dir.file("cut.json", cut_script);
