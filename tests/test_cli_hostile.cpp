@@ -288,6 +288,28 @@ TEST_CASE("glTF: a bad data uri is not echoed whole, and instancing is bounded b
   CHECK_THROWS_AS(tear::read_mesh((dir / "many.gltf").string(), options), tear::Error);
 }
 
+TEST_CASE("glTF: what is left to assimp is checked where its importers trust the file", "[hostile][cli]") {
+  // A strip or fan of fewer vertices than a triangle made assimp allocate for 2^32 faces (tens of
+  // GB): refused first, in a glTF 1.0 and in a 2.0 that assimp decodes (Draco).
+  TempDir dir;
+  dir.file("ok.bin", triangle_buffer());
+  std::string strip = triangle_gltf1("ok.bin");
+  const std::string count = R"("count": 3)", mode = R"("mode": 4)";
+  strip.replace(strip.find(count), count.size(), R"("count": 0)");
+  strip.replace(strip.find(mode), mode.size(), R"("mode": 5)");
+  dir.file("strip1.gltf", strip);
+  check_refused(timed_tear(dir, "info strip1.gltf"), 2, "strip1.gltf: mesh m, primitive 0: a triangle strip of 0 vertices (it needs 3)");
+  const std::string fan = R"({"asset": {"version": "2.0"}, "extensionsUsed": ["KHR_draco_mesh_compression"],
+    "buffers": [{"uri": "ok.bin", "byteLength": 36}], "bufferViews": [{"buffer": 0, "byteLength": 36}],
+    "accessors": [{"bufferView": 0, "componentType": 5126, "count": 1, "type": "VEC3"}],
+    "meshes": [{"primitives": [{"attributes": {"POSITION": 0}, "mode": 6}]}], "nodes": [{"mesh": 0}], "scenes": [{"nodes": [0]}]})";
+  dir.file("fan.gltf", fan);
+  check_refused(timed_tear(dir, "info fan.gltf"), 2, "fan.gltf: mesh 0, primitive 0: a triangle fan of 1 vertices (it needs 3)");
+  // A document without a glTF 1.0 "asset" is not handed to assimp as one: tinygltf's error.
+  dir.file("no_asset.gltf", R"({"arset": {"version": "2.0"}, "meshes": []})");
+  check_refused(timed_tear(dir, "info no_asset.gltf"), 2, "no_asset.gltf: cannot read as glTF: ");
+}
+
 TEST_CASE("inputs: FIFOs, devices and folders are refused at once, never read", "[hostile][cli]") {
   TempDir dir;
   write_sheet(dir);

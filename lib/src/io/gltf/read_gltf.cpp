@@ -307,12 +307,81 @@ bool has_triangles(const tinygltf::Mesh& mesh) {
   return false;
 }
 
+/// What assimp is left to read (glTF 1.0, Draco-compressed meshes), checked where its importers
+/// trust the file: a line strip, triangle strip or fan of fewer vertices than one segment or
+/// triangle needs made them allocate for 2^32 faces (counted as count - 1 or count - 2, unsigned):
+/// tens of GB. `glTF1`: the document must be a glTF 1.0 (tinygltf refused its "asset"); anything
+/// else is bad input with tinygltf's `error`.
+void check_left_to_assimp(const std::string& path, const char* json, std::size_t size, bool glTF1,
+                          const std::string& error) {
+  const nlohmann::json document = nlohmann::json::parse(json, json + size, nullptr, false);
+  if (glTF1) {
+    const nlohmann::json* version = nullptr;
+    if (document.is_object() && document.contains("asset") && document["asset"].is_object() &&
+        document["asset"].contains("version"))
+      version = &document["asset"]["version"];
+    if (!version || !version->is_string() || version->get_ref<const std::string&>().compare(0, 1, "1") != 0)
+      throw input_error(path, "cannot read as glTF: " + one_line(error.empty() ? "malformed" : error));
+  }
+  if (!document.is_object()) throw input_error(path, "cannot read as glTF: its JSON is malformed");
+  // glTF 1.0 names its meshes and accessors (objects), 2.0 numbers them (arrays).
+  const auto find = [](const nlohmann::json* list, const nlohmann::json* key) -> const nlohmann::json* {
+    if (!list || !key) return nullptr;
+    if (list->is_array() && key->is_number_unsigned() && key->get<std::uint64_t>() < list->size())
+      return &(*list)[key->get<std::size_t>()];
+    if (list->is_object() && key->is_string()) {
+      const auto it = list->find(key->get_ref<const std::string&>());
+      if (it != list->end()) return &*it;
+    }
+    return nullptr;
+  };
+  const auto member = [](const nlohmann::json& object, const char* name) -> const nlohmann::json* {
+    if (!object.is_object()) return nullptr;
+    const auto it = object.find(name);
+    return it == object.end() ? nullptr : &*it;
+  };
+  const nlohmann::json* meshes = member(document, "meshes");
+  const nlohmann::json* accessors = member(document, "accessors");
+  if (!meshes || !(meshes->is_array() || meshes->is_object())) return;
+  std::size_t index = 0;
+  for (const auto& item : meshes->items()) {
+    const std::string mesh = meshes->is_array() ? std::to_string(index++) : one_line(item.key());
+    const nlohmann::json* primitives = member(item.value(), "primitives");
+    if (!primitives || !primitives->is_array()) continue;
+    for (std::size_t p = 0; p < primitives->size(); ++p) {
+      const nlohmann::json& primitive = (*primitives)[p];
+      const nlohmann::json* mode = member(primitive, "mode");
+      const std::int64_t kind = mode && mode->is_number_integer() ? mode->get<std::int64_t>() : 4;
+      if (kind != 3 && kind != 5 && kind != 6) continue;  // LINE_STRIP, TRIANGLE_STRIP, TRIANGLE_FAN
+      const nlohmann::json* attributes = member(primitive, "attributes");
+      const nlohmann::json* key = member(primitive, "indices");
+      if (!key && attributes) key = member(*attributes, "POSITION");
+      const nlohmann::json* accessor = find(accessors, key);
+      const nlohmann::json* count = accessor ? member(*accessor, "count") : nullptr;
+      const std::uint64_t vertices = count && count->is_number_unsigned() ? count->get<std::uint64_t>() : 0;
+      const std::uint64_t needed = kind == 3 ? 2 : 3;
+      if (vertices < needed)
+        throw input_error(path, "mesh " + mesh + ", primitive " + std::to_string(p) + ": a " +
+                                    (kind == 3 ? "line strip" : kind == 5 ? "triangle strip" : "triangle fan") + " of " +
+                                    std::to_string(vertices) + " vertices (it needs " + std::to_string(needed) + ")");
+    }
+  }
+}
+
 /// The glTF document of `bytes`, through tinygltf; nothing for a document that assimp is left to
-/// read (glTF 1.0, Draco-compressed meshes).
+/// read (glTF 1.0, Draco-compressed meshes), once `check_left_to_assimp` has passed it.
 std::optional<tinygltf::Model> load_model(const std::string& path, const std::string& bytes) {
   const bool binary = bytes.compare(0, 4, "glTF") == 0;
-  // glTF 1.0 (another schema, which tinygltf does not read) is left to assimp.
-  if (binary && bytes.size() >= 8 && read_u32(bytes, 4) == 1) return std::nullopt;
+  // glTF 1.0 (another schema, which tinygltf does not read) is left to assimp. A binary one's
+  // header is as 2.0's, its JSON at 20 with its length at 12.
+  if (binary && bytes.size() >= 8 && read_u32(bytes, 4) == 1) {
+    if (bytes.size() < 20 || read_u32(bytes, 12) > bytes.size() - 20)
+      throw input_error(path, "cannot read as glTF: the binary glTF 1.0's content is longer than the file");
+    if (json_nesting_depth(bytes.data() + 20, read_u32(bytes, 12)) > max_json_depth)
+      throw input_error(path, "glTF JSON nests deeper than " + std::to_string(max_json_depth) + " levels");
+    check_left_to_assimp(path, bytes.data() + 20, read_u32(bytes, 12), false, "");
+    return std::nullopt;
+  }
   if (binary) check_glb(path, bytes);
   if (bytes.size() > std::numeric_limits<unsigned int>::max())
     throw input_error(path, "too large for glTF (4 GiB or more)");
@@ -334,11 +403,21 @@ std::optional<tinygltf::Model> load_model(const std::string& path, const std::st
   const unsigned int size = static_cast<unsigned int>(binary ? read_u32(bytes, 8) : bytes.size());
   const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &error, &warning, data, size, base_dir)
                          : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), size, base_dir);
-  if (!ok && error.find("\"asset\"") != std::string::npos) return std::nullopt;
+  const char* json = bytes.data() + json_begin;
+  if (!ok && error.find("\"asset\"") != std::string::npos) {
+    check_left_to_assimp(path, json, json_size, true, error);
+    return std::nullopt;
+  }
   // Draco-compressed meshes are decoded by assimp (tinygltf is built without Draco here).
-  if (bytes.find("KHR_draco_mesh_compression") != std::string::npos) return std::nullopt;
+  if (bytes.find("KHR_draco_mesh_compression") != std::string::npos) {
+    check_left_to_assimp(path, json, json_size, false, error);
+    return std::nullopt;
+  }
   if (!ok) throw input_error(path, "cannot read as glTF: " + one_line(error.empty() ? "malformed" : error));
-  if (model.asset.version.compare(0, 1, "2") != 0) return std::nullopt;
+  if (model.asset.version.compare(0, 1, "2") != 0) {
+    check_left_to_assimp(path, json, json_size, false, error);
+    return std::nullopt;
+  }
 
   for (const char* extension : {"EXT_meshopt_compression", "KHR_meshopt_compression"}) {
     if (std::find(model.extensionsUsed.begin(), model.extensionsUsed.end(), extension) != model.extensionsUsed.end()) {
