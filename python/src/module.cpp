@@ -240,11 +240,18 @@ struct PyCloth {
   int frames_stepped = 0;
 };
 
+/// Where a cloth's arrays live, as DLPack says it: (kDLCUDA, its GPU) or (kDLCPU, 0).
+std::pair<int, int> dlpack_device(const PyCloth& c) {
+  if (c.cloth->device() == tear::Device::cuda)
+    return {static_cast<int>(nb::device::cuda::value), std::max(0, tear::current_gpu())};
+  return {static_cast<int>(nb::device::cpu::value), 0};
+}
+
 /// The cloth's positions where the backend keeps them, as a DLPack capsule (which PyTorch, CuPy and
 /// NumPy take without a copy; `tear.Cloth.positions` wraps it in the DLPack protocol).
 nb::ndarray<float, nb::ndim<2>, nb::c_contig> cloth_positions(nb::handle self) {
   PyCloth& c = nb::cast<PyCloth&>(self);
-  const bool gpu = c.cloth->device() == tear::Device::cuda;
+  const auto [device_type, device_id] = dlpack_device(c);
   const float* data = nullptr;
   {
     nb::gil_scoped_release release;
@@ -255,7 +262,7 @@ nb::ndarray<float, nb::ndim<2>, nb::c_contig> cloth_positions(nb::handle self) {
   // read-only flag, so the array is writable; it is documented to be read.
   return nb::ndarray<float, nb::ndim<2>, nb::c_contig>(
       const_cast<float*>(data), {static_cast<std::size_t>(c.cloth->node_count()), 3}, self, {}, nb::dtype<float>(),
-      gpu ? nb::device::cuda::value : nb::device::cpu::value, gpu ? std::max(0, tear::current_gpu()) : 0);
+      device_type, device_id);
 }
 
 /// Positions from the host or, for a cloth on the GPU, from the same GPU's memory.
@@ -523,11 +530,7 @@ NB_MODULE(_tear, m) {
         }
       })
       .def("_positions", &cloth_positions)
-      .def("_positions_device", [](const PyCloth& c) {
-        const bool gpu = c.cloth->device() == tear::Device::cuda;
-        return std::make_pair(gpu ? static_cast<int>(nb::device::cuda::value) : static_cast<int>(nb::device::cpu::value),
-                              gpu ? std::max(0, tear::current_gpu()) : 0);
-      })
+      .def("_positions_device", &dlpack_device)
       .def("_set_positions", &set_cloth_positions, "points"_a.noconvert())
       .def("_mesh", [](const PyCloth& c) {
         auto out = std::make_unique<PyMesh>();

@@ -228,7 +228,8 @@ class DeviceArray:
         return array if dtype is None else array.astype(dtype, copy=bool(copy))
 
     def __repr__(self):
-        where = "cuda:%d" % self.__dlpack_device__()[1] if self.__dlpack_device__()[0] == 2 else "cpu"
+        kind, number = self.__dlpack_device__()
+        where = "cuda:%d" % number if kind == 2 else "cpu"
         return "<tear.DeviceArray %s float32 on %s>" % (self.shape, where)
 
 

@@ -168,10 +168,9 @@ void allow_uri(const std::string& base_dir, const std::string& kind, const std::
 /// Every external uri of the document in `json` checked (data: URIs are tinygltf's to decode):
 /// glTF 2.0's arrays of buffers and images, and glTF 1.0's objects of named buffers, images and
 /// shaders, whose files assimp would otherwise be the first to look for (it reads glTF 1.0).
-ExternalFiles external_files(const std::string& path, const char* json, std::size_t size) {
+ExternalFiles external_files(const std::string& path, const nlohmann::json& document) {
   ExternalFiles files;
   files.gltf = path;
-  nlohmann::json document = nlohmann::json::parse(json, json + size, nullptr, false);
   if (!document.is_object()) return files;  // tinygltf says what is wrong
   const std::string base_dir = std::filesystem::path(path).parent_path().string();
   const auto check = [&](const std::string& kind, const std::string& name, const nlohmann::json& item, bool glTF2) {
@@ -189,8 +188,8 @@ ExternalFiles external_files(const std::string& path, const char* json, std::siz
     }
     allow_uri(base_dir, kind, kind + " " + name, text, byte_length, files);
   };
-  for (const char* list_name : {"buffers", "images", "shaders"}) {
-    const std::string kind = std::string(list_name) == "buffers" ? "buffer" : list_name[0] == 'i' ? "image" : "shader";
+  const std::pair<const char*, std::string> lists[] = {{"buffers", "buffer"}, {"images", "image"}, {"shaders", "shader"}};
+  for (const auto& [list_name, kind] : lists) {
     const auto list = document.find(list_name);
     if (list == document.end()) continue;
     if (list->is_array() && kind != "shader") {
@@ -312,14 +311,16 @@ bool has_triangles(const tinygltf::Mesh& mesh) {
 /// triangle needs made them allocate for 2^32 faces (counted as count - 1 or count - 2, unsigned):
 /// tens of GB. `glTF1`: the document must be a glTF 1.0 (tinygltf refused its "asset"); anything
 /// else is bad input with tinygltf's `error`.
-void check_left_to_assimp(const std::string& path, const char* json, std::size_t size, bool glTF1,
+void check_left_to_assimp(const std::string& path, const nlohmann::json& document, bool glTF1,
                           const std::string& error) {
-  const nlohmann::json document = nlohmann::json::parse(json, json + size, nullptr, false);
+  const auto member = [](const nlohmann::json& object, const char* name) -> const nlohmann::json* {
+    if (!object.is_object()) return nullptr;
+    const auto it = object.find(name);
+    return it == object.end() ? nullptr : &*it;
+  };
   if (glTF1) {
-    const nlohmann::json* version = nullptr;
-    if (document.is_object() && document.contains("asset") && document["asset"].is_object() &&
-        document["asset"].contains("version"))
-      version = &document["asset"]["version"];
+    const nlohmann::json* asset = member(document, "asset");
+    const nlohmann::json* version = asset ? member(*asset, "version") : nullptr;
     if (!version || !version->is_string() || version->get_ref<const std::string&>().compare(0, 1, "1") != 0)
       throw input_error(path, "cannot read as glTF: " + one_line(error.empty() ? "malformed" : error));
   }
@@ -334,11 +335,6 @@ void check_left_to_assimp(const std::string& path, const char* json, std::size_t
       if (it != list->end()) return &*it;
     }
     return nullptr;
-  };
-  const auto member = [](const nlohmann::json& object, const char* name) -> const nlohmann::json* {
-    if (!object.is_object()) return nullptr;
-    const auto it = object.find(name);
-    return it == object.end() ? nullptr : &*it;
   };
   const nlohmann::json* meshes = member(document, "meshes");
   const nlohmann::json* accessors = member(document, "accessors");
@@ -379,7 +375,8 @@ std::optional<tinygltf::Model> load_model(const std::string& path, const std::st
       throw input_error(path, "cannot read as glTF: the binary glTF 1.0's content is longer than the file");
     if (json_nesting_depth(bytes.data() + 20, read_u32(bytes, 12)) > max_json_depth)
       throw input_error(path, "glTF JSON nests deeper than " + std::to_string(max_json_depth) + " levels");
-    check_left_to_assimp(path, bytes.data() + 20, read_u32(bytes, 12), false, "");
+    const char* json = bytes.data() + 20;
+    check_left_to_assimp(path, nlohmann::json::parse(json, json + read_u32(bytes, 12), nullptr, false), false, "");
     return std::nullopt;
   }
   if (binary) check_glb(path, bytes);
@@ -392,7 +389,11 @@ std::optional<tinygltf::Model> load_model(const std::string& path, const std::st
     throw input_error(path, "glTF JSON nests deeper than " + std::to_string(max_json_depth) + " levels");
   }
 
-  ExternalFiles files = external_files(path, bytes.data() + json_begin, json_size);
+  // Parsed here once (tinygltf parses its own copy): the uris are checked before tinygltf reads a
+  // file, and what is left to assimp is checked from it too.
+  const char* json = bytes.data() + json_begin;
+  const nlohmann::json document = nlohmann::json::parse(json, json + json_size, nullptr, false);
+  ExternalFiles files = external_files(path, document);
   tinygltf::TinyGLTF loader;
   loader.SetImageLoader(skip_image, nullptr);
   loader.SetFsCallbacks({external_file_exists, keep_path, read_external_file, write_nothing, &files});
@@ -403,19 +404,18 @@ std::optional<tinygltf::Model> load_model(const std::string& path, const std::st
   const unsigned int size = static_cast<unsigned int>(binary ? read_u32(bytes, 8) : bytes.size());
   const bool ok = binary ? loader.LoadBinaryFromMemory(&model, &error, &warning, data, size, base_dir)
                          : loader.LoadASCIIFromString(&model, &error, &warning, bytes.data(), size, base_dir);
-  const char* json = bytes.data() + json_begin;
   if (!ok && error.find("\"asset\"") != std::string::npos) {
-    check_left_to_assimp(path, json, json_size, true, error);
+    check_left_to_assimp(path, document, true, error);
     return std::nullopt;
   }
   // Draco-compressed meshes are decoded by assimp (tinygltf is built without Draco here).
   if (bytes.find("KHR_draco_mesh_compression") != std::string::npos) {
-    check_left_to_assimp(path, json, json_size, false, error);
+    check_left_to_assimp(path, document, false, error);
     return std::nullopt;
   }
   if (!ok) throw input_error(path, "cannot read as glTF: " + one_line(error.empty() ? "malformed" : error));
   if (model.asset.version.compare(0, 1, "2") != 0) {
-    check_left_to_assimp(path, json, json_size, false, error);
+    check_left_to_assimp(path, document, false, error);
     return std::nullopt;
   }
 
