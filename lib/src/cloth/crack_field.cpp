@@ -8,6 +8,9 @@
 #include <limits>
 #include <string>
 #include <vector>
+#if defined(__GLIBCXX__) && defined(_OPENMP)
+#include <parallel/algorithm>
+#endif
 
 #include "cloth/crack_geometry.h"
 #include "cloth/crack_growth.h"
@@ -111,15 +114,17 @@ CrackField::CrackField(CrackMesh mesh, const TearingOptions& options) : m_(std::
   face_centroid_.resize(faces);
   face_normal_.resize(faces);
   face_area_.resize(faces);
+  // Each face on its own (threads of the host), then the total in face order.
+#pragma omp parallel for schedule(static)
   for (index_t f = 0; f < faces; ++f) {
     Vec3 X[3];
     for (int k = 0; k < 3; ++k) X[k] = rest(m_.face_nodes[3 * f + k]);
     face_centroid_[f] = scale(add(add(X[0], X[1]), X[2]), 1 / 3.0);
     const Vec3 n = cross(sub(X[1], X[0]), sub(X[2], X[0]));
     face_area_[f] = 0.5 * norm(n);
-    total_area_ += face_area_[f];
     face_normal_[f] = unit(n);
   }
+  for (index_t f = 0; f < faces; ++f) total_area_ += face_area_[f];
   // The smoothing disc spans a face at least, so a coarse mesh still averages a neighbourhood.
   double edges = 0;
   for (index_t e = 0; e < m_.topo.edge_count; ++e)
@@ -152,6 +157,7 @@ void CrackField::build_grid() {
   cell_ = radius_;
   const index_t faces = m_.topo.face_count;
   std::vector<std::pair<std::int64_t, index_t>> keyed(faces);
+#pragma omp parallel for schedule(static)
   for (index_t f = 0; f < faces; ++f) {
     std::int64_t key = 0;
     for (int a = 0; a < 3; ++a)
@@ -159,7 +165,12 @@ void CrackField::build_grid() {
                                                (std::int64_t(1) << 20)) & ((std::int64_t(1) << 21) - 1));
     keyed[f] = {key, f};
   }
+  // The pairs are distinct (one per face): any sort orders them the same way.
+#if defined(__GLIBCXX__) && defined(_OPENMP)
+  __gnu_parallel::sort(keyed.begin(), keyed.end());
+#else
   std::sort(keyed.begin(), keyed.end());
+#endif
   cell_key_.resize(faces);
   cell_face_.resize(faces);
   for (index_t i = 0; i < faces; ++i) {
@@ -224,6 +235,7 @@ void CrackField::build_border() {
 std::vector<double> CrackField::face_tensors(const std::vector<float>& node_pos) const {
   const index_t faces = m_.topo.face_count;
   std::vector<double> T(6 * std::size_t(faces), 0.0);
+#pragma omp parallel for schedule(static)
   for (index_t f = 0; f < faces; ++f)
     kernels::face_stretch_tensor(m_.face_nodes.data(), m_.node_rest.data(), node_pos.data(), f, &T[6 * std::size_t(f)]);
   return T;

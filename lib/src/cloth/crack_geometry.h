@@ -97,16 +97,25 @@ void CrackField::faces_near(const Vec3& p, double r, F&& f) const {
     hi[a] = static_cast<std::int64_t>(std::floor((p[a] + r) / cell_));
   }
   const auto wrap = [](std::int64_t v) { return (v + (std::int64_t(1) << 20)) & ((std::int64_t(1) << 21) - 1); };
+  // The cells of one (x, y) column are consecutive keys (z is the key's low bits) unless z wraps
+  // within the range: one search per column then, and the faces visited in the same order.
+  const bool column = wrap(lo[2]) <= wrap(hi[2]) && hi[2] - lo[2] < (std::int64_t(1) << 21);
   for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
-    for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
-      for (std::int64_t z = lo[2]; z <= hi[2]; ++z) {
-        const std::int64_t key = (wrap(x) << 42) + (wrap(y) << 21) + wrap(z);
-        auto range = std::equal_range(cell_key_.begin(), cell_key_.end(), key);
-        for (auto it = range.first; it != range.second; ++it) {
+    for (std::int64_t y = lo[1]; y <= hi[1]; ++y) {
+      const std::int64_t base = (wrap(x) << 42) + (wrap(y) << 21);
+      const auto visit = [&](std::vector<std::int64_t>::const_iterator it, std::int64_t last) {
+        for (; it != cell_key_.end() && *it <= last; ++it) {
           const index_t g = cell_face_[it - cell_key_.begin()];
           if (crack::norm(crack::sub(face_centroid_[g], p)) <= r) f(g);
         }
+      };
+      if (column) {
+        visit(std::lower_bound(cell_key_.begin(), cell_key_.end(), base + wrap(lo[2])), base + wrap(hi[2]));
+      } else {
+        for (std::int64_t z = lo[2]; z <= hi[2]; ++z)
+          visit(std::lower_bound(cell_key_.begin(), cell_key_.end(), base + wrap(z)), base + wrap(z));
       }
+    }
 }
 
 }  // namespace tear

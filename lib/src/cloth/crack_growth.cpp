@@ -293,24 +293,35 @@ double CrackField::largest_tip_ratio(const std::vector<float>& node_pos) const {
 }
 
 void CrackField::mark_may_start() {
-  // near_crack's rule for every face's centroid, over the grid instead of every face.
+  // near_crack's rule for every face's centroid, over the grid instead of every face: the faces
+  // within four radii of a tip and within a radius of a node of a torn border edge (each node once:
+  // a border node ends two such edges). The queries run on the host's threads; each only clears
+  // flags, so their order does not matter.
   may_start_.assign(m_.topo.face_count, 1);
-  for (index_t t : tips_) {
-    const Vec3 p = rest(t);
-    faces_near(p, 4 * options_.radius, [&](index_t f) {
-      if (norm(sub(p, face_centroid_[f])) < 4 * options_.radius) may_start_[f] = 0;
-    });
-  }
+  std::vector<std::pair<index_t, double>> queries;
+  for (index_t t : tips_) queries.emplace_back(t, 4 * options_.radius);
+  std::vector<std::uint8_t> seen(m_.topo.node_count, 0);
   for (index_t e : border_edges_) {
     const index_t f = m_.topo.edge_faces[2 * e];
     const index_t c = m_.topo.face_edges[3 * f] == e ? 0 : m_.topo.face_edges[3 * f + 1] == e ? 1 : 2;
     if (!m_.corner_torn.empty() && !m_.corner_torn[3 * f + (c + 1) % 3]) continue;
     for (int j = 0; j < 2; ++j) {
-      const Vec3 p = rest(m_.topo.edge_nodes[2 * e + j]);
-      faces_near(p, options_.radius, [&](index_t g) {
-        if (norm(sub(p, face_centroid_[g])) < options_.radius) may_start_[g] = 0;
-      });
+      const index_t n = m_.topo.edge_nodes[2 * e + j];
+      if (!seen[n]) queries.emplace_back(n, options_.radius);
+      seen[n] = 1;
     }
+  }
+  const std::int64_t count = static_cast<std::int64_t>(queries.size());
+#pragma omp parallel for schedule(dynamic, 16)
+  for (std::int64_t q = 0; q < count; ++q) {
+    const Vec3 p = rest(queries[q].first);
+    const double r = queries[q].second;
+    faces_near(p, r, [&](index_t g) {
+      if (norm(sub(p, face_centroid_[g])) < r) {
+#pragma omp atomic write
+        may_start_[g] = 0;
+      }
+    });
   }
 }
 
@@ -399,6 +410,7 @@ CrackPlan CrackField::plan(const std::vector<float>& node_pos) const {
     // piece and takes the load off it; a second crack there would break it twice, or cut a sliver
     // between the two.
     std::vector<double> stretch(m_.topo.face_count);
+#pragma omp parallel for schedule(static)
     for (index_t f = 0; f < m_.topo.face_count; ++f) {
       Vec3 r;
       stretch[f] = std::sqrt(std::max(principal(&T[6 * std::size_t(f)], face_normal_[f], r), 0.0));
