@@ -102,7 +102,7 @@ void add_demo_command(CLI::App& app) {
       "the top edge pinned, gravity along -y. --scene pull: a notched sheet whose left and right strips are "
       "pulled apart until it tears in two; --scene punch: a horizontal sheet held at its four edges, torn open by "
       "a rising sphere, its torn flaps kept apart by self-collision; --scene grain: a woven sheet with a UV seam at "
-      "x = 0.7 pulled apart along a diagonal, which tears along its weft and opens its seam; --scene drape: a sheet "
+      "x = 0.7 pulled apart along a diagonal, which comes apart along its weaker seam; --scene drape: a sheet "
       "caught at one corner falls onto a slowly turning box, folds on itself and tears where it snags (all four tear "
       "at a stretch of 1.3). An -o whose file name ends in .obj, .ply, .gltf, .glb, .usda "
       "or .usd "

@@ -42,7 +42,7 @@ CutScript demo_script();
 
 /// The scenes of `tear demo`: the paper's (the default), a notched sheet pulled apart by keyed pins
 /// until it tears in two, a horizontal sheet held at its edges torn open by a rising sphere, a
-/// woven square with a UV seam pulled along a diagonal (it tears along its weft and opens its
+/// woven square with a UV seam pulled along a diagonal (it comes apart along its weaker
 /// seam), and a sheet caught at a corner falling onto a slowly turning box (it folds on itself and
 /// tears where it snags).
 enum class DemoScene { paper, pull, punch, grain, drape };
