@@ -228,21 +228,43 @@ TEAR_HD inline double principal_in_plane(const double* S, const double n[3]) {
   return 0.5 * (s11 + s22) + sqrt(half * half + s12 * s12);
 }
 
+/// Every face's DiscSums term (`face_disc_term`) into `out`, once per check: the start candidates'
+/// discs below read them instead of computing each face's tensor again for every disc it lies in.
+struct store_disc_terms {
+  const index_t* face_nodes;
+  const float* node_rest;
+  const float* node_pos;
+  const float* face_strength;  // null: 1
+  DiscSums* out;
+  TEAR_HD void operator()(index_t f) const { out[f] = face_disc_term(face_nodes, node_rest, node_pos, face_strength, f); }
+};
+
+/// Every face's rest centroid (`rest_centroid`) into `out` (3 per face), once per view of the mesh.
+struct store_rest_centroids {
+  const index_t* face_nodes;
+  const float* node_rest;
+  double* out;
+  TEAR_HD void operator()(index_t f) const { rest_centroid(face_nodes, node_rest, f, out + 3 * f); }
+};
+
 /// Per face: where a new crack could start there, its smoothed stretch over the start limit (the
 /// test `CrackField::start` makes of a candidate: the stretch smoothed over the disc of `radius`
 /// around the face's rest centroid, in the face's plane, over `start` times the disc's mean
 /// strength); 0 where it cannot (near a crack or a tip, `may_start`, or its own stretch under the
 /// limit, which every candidate passes first). The faces' largest bounds every start of a substep.
+/// The faces' terms and rest centroids come stored (store_disc_terms, store_rest_centroids).
 struct start_ratio_of {
   start_stretch_ratio_of own;  // the face's own stretch over the limit, 0 where it may not start
   FaceGrid grid;
   double radius;
+  const DiscSums* terms;    // [faces]
+  const double* centroids;  // [3 faces]
   TEAR_HD double operator()(index_t f) const {
     if (!(own(f) > 0.999)) return 0;
     const index_t* face_nodes = own.face_nodes;
     const float* node_rest = own.node_rest;
-    double c[3], n[3], E1[3], E2[3];
-    rest_centroid(face_nodes, node_rest, f, c);
+    double n[3], E1[3], E2[3];
+    const double* c = centroids + 3 * f;
     for (int d = 0; d < 3; ++d) {
       E1[d] = static_cast<double>(node_rest[3 * face_nodes[3 * f + 1] + d]) - node_rest[3 * face_nodes[3 * f] + d];
       E2[d] = static_cast<double>(node_rest[3 * face_nodes[3 * f + 2] + d]) - node_rest[3 * face_nodes[3 * f] + d];
@@ -253,18 +275,22 @@ struct start_ratio_of {
     const double ln = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
     if (!(ln > 0)) return 0;
     for (int d = 0; d < 3; ++d) n[d] = n[d] * (1 / ln);
-    // The disc: the grid's cells over [c - r, c + r], faces whose centroid lies within r.
+    // The disc: the grid's cells over [c - r, c + r], faces whose centroid lies within r. The cells
+    // of one (x, y) column are consecutive keys (z is the key's low bits) unless z wraps within the
+    // range: one search per column then, and the faces met in the same order.
     std::int64_t lo[3], hi[3];
     for (int a = 0; a < 3; ++a) {
       lo[a] = static_cast<std::int64_t>(floor((c[a] - radius) / grid.cell));
       hi[a] = static_cast<std::int64_t>(floor((c[a] + radius) / grid.cell));
     }
     const auto wrap = [](std::int64_t v) { return (v + (std::int64_t(1) << 20)) & ((std::int64_t(1) << 21) - 1); };
+    const bool column = wrap(lo[2]) <= wrap(hi[2]) && hi[2] - lo[2] < (std::int64_t(1) << 21);
     double sum[6] = {0, 0, 0, 0, 0, 0}, strength = 0, area = 0;
     for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
       for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
-        for (std::int64_t z = lo[2]; z <= hi[2]; ++z) {
-          const std::int64_t key = (wrap(x) << 42) + (wrap(y) << 21) + wrap(z);
+        for (std::int64_t z = lo[2]; z <= (column ? lo[2] : hi[2]); ++z) {
+          const std::int64_t base = (wrap(x) << 42) + (wrap(y) << 21);
+          const std::int64_t key = base + wrap(z), last_key = column ? base + wrap(hi[2]) : key;
           index_t first = 0, last = grid.count;  // lower bound of key
           while (first < last) {
             const index_t mid = first + (last - first) / 2;
@@ -273,13 +299,12 @@ struct start_ratio_of {
             else
               last = mid;
           }
-          for (index_t i = first; i < grid.count && grid.keys[i] == key; ++i) {
+          for (index_t i = first; i < grid.count && grid.keys[i] <= last_key; ++i) {
             const index_t g = grid.faces[i];
-            double q[3];
-            rest_centroid(face_nodes, node_rest, g, q);
+            const double* q = centroids + 3 * g;
             const double dx = q[0] - c[0], dy = q[1] - c[1], dz = q[2] - c[2];
             if (!(sqrt(dx * dx + dy * dy + dz * dz) <= radius)) continue;
-            const DiscSums term = face_disc_term(face_nodes, node_rest, own.node_pos, own.face_strength, g);
+            const DiscSums& term = terms[g];
             for (int k = 0; k < 6; ++k) sum[k] += term.v[k];
             strength += term.v[6];
             area += term.v[7];

@@ -141,12 +141,20 @@ TEST_CASE("crack growth: the backend's quick check never skips a substep that wo
             for (int k = 0; k < 8; ++k) sums[8 * p + k] += term.v[k];
           }
         double start = 0, largest = 0;
+        // The faces' terms and rest centroids, stored as the backend stores them.
+        std::vector<tear::kernels::DiscSums> terms(mesh.topo.face_count);
+        std::vector<double> centroids(3 * std::size_t(mesh.topo.face_count));
+        for (index_t f = 0; f < mesh.topo.face_count; ++f) {
+          tear::kernels::store_disc_terms{mesh.face_nodes.data(), mesh.node_rest.data(), pos.data(), nullptr,
+                                          terms.data()}(f);
+          tear::kernels::store_rest_centroids{mesh.face_nodes.data(), mesh.node_rest.data(), centroids.data()}(f);
+        }
         const tear::kernels::start_ratio_of start_ratio{
             {mesh.face_nodes.data(), mesh.node_rest.data(), pos.data(), nullptr, probes.may_start.data(),
              options.start_stretch()},
             tear::kernels::FaceGrid{probes.cell_key.data(), probes.cell_face.data(),
                                     static_cast<index_t>(probes.cell_key.size()), probes.cell},
-            probes.radius};
+            probes.radius, terms.data(), centroids.data()};
         for (index_t f = 0; f < mesh.topo.face_count; ++f) {
           largest = std::max(largest, tear::kernels::face_principal_stretch(mesh.face_nodes.data(),
                                                                             mesh.node_rest.data(), pos.data(), f));

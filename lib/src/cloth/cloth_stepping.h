@@ -195,9 +195,16 @@ class StepJob {
       return false;
     }
     const auto t0 = std::chrono::steady_clock::now();
+    view_ms_[0] = view_ms_[1] = view_ms_[2] = 0;
     if (!field_) {
-      field_.emplace(crack_mesh(cloth), options_.tearing);
+      CrackMesh mesh = crack_mesh(cloth);
+      const auto read = std::chrono::steady_clock::now();
+      field_.emplace(std::move(mesh), options_.tearing);
+      const auto built = std::chrono::steady_clock::now();
       upload_probes(field_->probes());
+      view_ms_[0] = std::chrono::duration<double, std::milli>(read - t0).count();
+      view_ms_[1] = std::chrono::duration<double, std::milli>(built - read).count();
+      view_ms_[2] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - built).count();
     }
     const auto t1 = std::chrono::steady_clock::now();
     // The discs and the faces crack growth would look at, summed on the backend: where nothing
@@ -208,8 +215,10 @@ class StepJob {
       if (check_skips && !field_->plan(to_host<float>(cloth.node_pos)).cuts.empty())
         throw Error(ErrorKind::runtime, "tearing: the backend's check skipped a substep whose plan cuts");
       if (std::getenv("TEAR_DEBUG_CRACK_TIMES"))
-        std::fprintf(stderr, "check: field %.3f ms, quiet on the backend\n",
-                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+        std::fprintf(stderr, "check: field %.3f ms, quiet on the backend (discs %.3f ms, starts %.3f ms; view read %.3f, "
+                     "built %.3f, probes %.3f ms)\n",
+                     std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count(),
+                     check_ms_[0], check_ms_[1], view_ms_[0], view_ms_[1], view_ms_[2]);
       m.check_end.record();
       return false;
     }
@@ -218,10 +227,12 @@ class StepJob {
     const CrackPlan plan = field_->plan(positions);
     const auto t3 = std::chrono::steady_clock::now();
     if (std::getenv("TEAR_DEBUG_CRACK_TIMES"))
-      std::fprintf(stderr, "check: field %.3f ms, positions %.3f ms, plan %.3f ms\n",
+      std::fprintf(stderr, "check: field %.3f ms, positions %.3f ms, plan %.3f ms (discs %.3f ms, starts %.3f ms; "
+                   "view read %.3f, built %.3f, probes %.3f ms)\n",
                    std::chrono::duration<double, std::milli>(t1 - t0).count(),
                    std::chrono::duration<double, std::milli>(t2 - t1).count(),
-                   std::chrono::duration<double, std::milli>(t3 - t2).count());
+                   std::chrono::duration<double, std::milli>(t3 - t2).count(), check_ms_[0], check_ms_[1], view_ms_[0],
+                   view_ms_[1], view_ms_[2]);
     m.check_end.record();
     if (plan.cuts.empty()) return false;
     CutOptions cut_options;
@@ -252,6 +263,7 @@ class StepJob {
     assign_from_host(cell_face_, probes.cell_face);
     resize_for_overwrite(sum_keys_, probes.count());
     resize_for_overwrite(sums_, probes.count());
+    centroids_ready_ = false;  // a new view: the faces may have changed
     probes_ = std::move(probes);
   }
 
@@ -260,6 +272,7 @@ class StepJob {
   bool may_cut(const DeviceCloth<System>& cloth) {
     const float* strength = cloth.face_strength.empty() ? nullptr : raw<float>(cloth.face_strength);
     const thrust::counting_iterator<index_t> zero(0);
+    const auto t0 = std::chrono::steady_clock::now();
     std::vector<double> sums(8 * probes_.count(), 0.0);
     if (!probe_faces_.empty()) {
       // Summed per disc by key (no atomics). The sums only gate the host's plan, with a margin, so
@@ -279,6 +292,7 @@ class StepJob {
           ++i;
         }
     }
+    const auto t1 = std::chrono::steady_clock::now();
     // The start faces' discs on a GPU, where they cost a few microseconds; on the CPU each face over
     // the limit would sum its disc on one of a few threads, and the faces' own stretch bounds the
     // start instead (a plan more often, the same decisions).
@@ -292,10 +306,30 @@ class StepJob {
     } else {
       const kernels::FaceGrid grid{raw<std::int64_t>(cell_key_), raw<index_t>(cell_face_),
                                    static_cast<index_t>(cell_key_.size()), probes_.cell};
-      start = thrust::transform_reduce(Traits<System>::policy(), zero, zero + cloth.face_count(),
-                                       kernels::start_ratio_of{own, grid, probes_.radius}, 0.0,
-                                       thrust::maximum<double>());
+      // Each face's rest centroid once per view, its disc term once per check: a candidate's disc
+      // reads them (the same values, summed in the same order, as computing them there).
+      const index_t faces = cloth.face_count();
+      if (!centroids_ready_) {
+        resize_for_overwrite(face_centroids_, 3 * std::size_t(faces));
+        thrust::for_each(Traits<System>::policy(), zero, zero + faces,
+                         kernels::store_rest_centroids{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
+                                                       raw<double>(face_centroids_)});
+        centroids_ready_ = true;
+      }
+      resize_for_overwrite(face_terms_, faces);
+      thrust::for_each(Traits<System>::policy(), zero, zero + faces,
+                       kernels::store_disc_terms{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
+                                                 raw<float>(cloth.node_pos), strength,
+                                                 raw<kernels::DiscSums>(face_terms_)});
+      start = thrust::transform_reduce(
+          Traits<System>::policy(), zero, zero + faces,
+          kernels::start_ratio_of{own, grid, probes_.radius, raw<kernels::DiscSums>(face_terms_),
+                                  raw<double>(face_centroids_)},
+          0.0, thrust::maximum<double>());
     }
+    const auto t2 = std::chrono::steady_clock::now();
+    check_ms_[0] = std::chrono::duration<double, std::milli>(t1 - t0).count();
+    check_ms_[1] = std::chrono::duration<double, std::milli>(t2 - t1).count();
     return field_->may_cut(probes_, sums, start);
   }
 
@@ -330,6 +364,13 @@ class StepJob {
   vector<System, std::int64_t> cell_key_;
   vector<System, index_t> cell_face_;
   vector<System, kernels::DiscSums> sums_;
+  vector<System, kernels::DiscSums> face_terms_;  // every face's disc term, this check's (GPU)
+  vector<System, double> face_centroids_;         // every face's rest centroid, this view's (GPU)
+  bool centroids_ready_ = false;
+  // For TEAR_DEBUG_CRACK_TIMES: the last may_cut's parts (discs, starts) and the last check's view
+  // (read back, built, probes made and uploaded; zeros where it was not rebuilt).
+  double check_ms_[2] = {0, 0};
+  double view_ms_[3] = {0, 0, 0};
   double min_strength_ = 1;
   std::int64_t start_faces_ = 0;  // the cloth's faces when the simulation started
   std::int64_t face_budget_ = 0;  // the most faces tearing may leave it with
