@@ -9,7 +9,9 @@
   it, and a last line naming the failed shot;
 - a shot whose key is unknown fails alone with exit 1; a shot interrupted is not tested here;
 - a list that is not JSON, or not a list, exits 2 and runs nothing;
-- every shot ok: exit 0, nothing on standard error.
+- every shot ok: exit 0, nothing on standard error;
+- 100 shots, one of them bad (a missing mesh): the other 99 write exactly what `tear run` writes
+  alone for each, the bad one is reported with its message and code, and the batch exits 2.
 """
 
 import json
@@ -106,6 +108,35 @@ with tempfile.TemporaryDirectory(prefix="tear-batch-") as work:
         json.dump([shots[0], shots[2]], f)
     r = tear("batch", shots_path, "--device", "cpu")
     check(r.returncode == 0 and r.stderr == "", "every shot ok: exit 0, silent: %d %r" % (r.returncode, r.stderr))
+
+    # 100 shots, one bad: the 99 others' files against 99 runs of tear run alone.
+    bad = 57
+    shots = []
+    for i in range(100):
+        script = CUTS if i % 2 == 0 else SLIT
+        mesh = missing if i == bad else MESH
+        shots.append({"mesh": mesh, "script": script, "output": os.path.join(work, "b100", str(i), "f.####.ply")})
+    with open(shots_path, "w") as f:
+        json.dump(shots, f)
+    r = tear("batch", shots_path, "--device", "cpu")
+    check(r.returncode == 2, "100 shots, one bad: exit 2, got %d" % r.returncode)
+    lines = r.stderr.splitlines()
+    check(len(lines) == 2 and lines[0] == r2.stderr.strip(), "the bad shot's own message, alone: %r" % lines)
+    check(lines[-1:] == ["tear: %s: 1 of 100 shots failed: [%d] (exit 2)" % (shots_path, bad)],
+          "the summary names the bad shot: %r" % lines[-1:])
+    same = 0
+    for i, shot in enumerate(shots):
+        if i == bad:
+            check(not os.path.exists(os.path.join(work, "b100", str(i))), "the bad shot of 100 writes nothing")
+            continue
+        alone_dir = os.path.join(work, "a100", str(i))
+        ra = tear("run", shot["mesh"], shot["script"], "-o", os.path.join(alone_dir, "f.####.ply"), "--device", "cpu")
+        written = files(os.path.join(work, "b100", str(i)))
+        if ra.returncode == 0 and written and files(alone_dir) == written:
+            same += 1
+        else:
+            check(False, "shot %d of 100: its files are not tear run's (%d, %r)" % (i, ra.returncode, ra.stderr))
+    check(same == 99, "99 of the 100 shots write what tear run writes alone, got %d" % same)
 
 if failures:
     print("%d check(s) failed" % len(failures), file=sys.stderr)
