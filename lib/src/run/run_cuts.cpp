@@ -102,18 +102,48 @@ void add_tearing(nlohmann::json& entry, const FrameResult& frame) {
   entry["torn_length_m"] = frame.torn_length;
 }
 
+/// Meshes of this many faces or more are measured on the OpenMP threads.
+constexpr std::int64_t parallel_faces = 4096;
+
 /// Per face the cross product of two of its edges (its normal scaled by twice its area), and per
 /// node the sum of those of its faces: the area-weighted normals.
 void face_crosses(const Mesh& mesh, std::vector<Vec3>& face_cross, std::vector<Vec3>& node_sum) {
-  const index_t face_count = mesh.face_count();
-  face_cross.assign(static_cast<std::size_t>(face_count), Vec3{0, 0, 0});
-  node_sum.assign(static_cast<std::size_t>(mesh.node_count()), Vec3{0, 0, 0});
-  for (index_t f = 0; f < face_count; ++f) {
+  const std::int64_t face_count = mesh.face_count(), node_count = mesh.node_count();
+  const bool parallel = face_count >= parallel_faces;
+  face_cross.resize(static_cast<std::size_t>(face_count));
+#pragma omp parallel for schedule(static) if (parallel)
+  for (std::int64_t f = 0; f < face_count; ++f) {
     const index_t* nodes = &mesh.face_nodes[3 * static_cast<std::size_t>(f)];
     const Vec3 p0 = node_at(mesh.node_pos, nodes[0]);
     face_cross[f] = cross(sub(node_at(mesh.node_pos, nodes[1]), p0), sub(node_at(mesh.node_pos, nodes[2]), p0));
-    for (int k = 0; k < 3; ++k)
-      for (int a = 0; a < 3; ++a) node_sum[nodes[k]][a] += face_cross[f][a];
+  }
+  // Each node's corners in ascending order, so that its sum is taken in face order on any number
+  // of threads: counted, then placed in any order and each node's few sorted.
+  const std::int64_t corners = 3 * face_count;
+  std::vector<std::int64_t> first(static_cast<std::size_t>(node_count) + 1, 0);
+#pragma omp parallel for schedule(static) if (parallel)
+  for (std::int64_t c = 0; c < corners; ++c) {
+#pragma omp atomic update
+    ++first[mesh.face_nodes[c] + 1];
+  }
+  for (std::int64_t n = 0; n < node_count; ++n) first[n + 1] += first[n];
+  std::vector<std::int64_t> next(first.begin(), first.end() - 1);
+  std::vector<std::int64_t> node_corners(static_cast<std::size_t>(corners));
+#pragma omp parallel for schedule(static) if (parallel)
+  for (std::int64_t c = 0; c < corners; ++c) {
+    std::int64_t slot;
+#pragma omp atomic capture
+    slot = next[mesh.face_nodes[c]]++;
+    node_corners[slot] = c;
+  }
+  node_sum.resize(static_cast<std::size_t>(node_count));
+#pragma omp parallel for schedule(static) if (parallel)
+  for (std::int64_t n = 0; n < node_count; ++n) {
+    std::sort(node_corners.begin() + first[n], node_corners.begin() + first[n + 1]);
+    Vec3 sum{0, 0, 0};
+    for (std::int64_t i = first[n]; i < first[n + 1]; ++i)
+      for (int a = 0; a < 3; ++a) sum[a] += face_cross[node_corners[i] / 3][a];
+    node_sum[n] = sum;
   }
 }
 
@@ -126,9 +156,10 @@ FaceQuality face_quality(const Mesh& mesh) {
   // other faces there.
   std::vector<Vec3> face_cross, node_sum;
   face_crosses(mesh, face_cross, node_sum);
-  FaceQuality quality;
+  std::int64_t degenerate_faces = 0, inverted_faces = 0;
+#pragma omp parallel for schedule(static) reduction(+ : degenerate_faces, inverted_faces) if (face_count >= parallel_faces)
   for (index_t f = 0; f < face_count; ++f) {
-    quality.degenerate += degenerate(f);
+    degenerate_faces += degenerate(f);
     const index_t* nodes = &mesh.face_nodes[3 * static_cast<std::size_t>(f)];
     if (nodes[0] == nodes[1] || nodes[1] == nodes[2] || nodes[2] == nodes[0]) continue;
     int against = 0;
@@ -136,8 +167,11 @@ FaceQuality face_quality(const Mesh& mesh) {
       const Vec3 others = sub(node_sum[nodes[k]], face_cross[f]);
       if (dot(others, face_cross[f]) < 0) ++against;
     }
-    if (against >= 2) ++quality.inverted;
+    if (against >= 2) ++inverted_faces;
   }
+  FaceQuality quality;
+  quality.degenerate = static_cast<index_t>(degenerate_faces);
+  quality.inverted = static_cast<index_t>(inverted_faces);
   return quality;
 }
 
@@ -154,6 +188,7 @@ std::vector<float> area_weighted_corner_normals(const Mesh& mesh) {
   std::vector<Vec3> face_cross, node_sum;
   face_crosses(mesh, face_cross, node_sum);
   std::vector<float> corner_normal(9 * static_cast<std::size_t>(face_count), 0.0f);
+#pragma omp parallel for schedule(static) if (face_count >= parallel_faces)
   for (index_t f = 0; f < face_count; ++f) {
     for (int k = 0; k < 3; ++k) {
       Vec3 n = node_sum[mesh.face_nodes[3 * static_cast<std::size_t>(f) + k]];
@@ -172,7 +207,7 @@ double min_face_angle_deg(const std::vector<index_t>& face_nodes, const std::vec
   const std::int64_t face_count = static_cast<std::int64_t>(face_nodes.size() / 3);
   // A minimum is exact in any order: the same value for any number of threads.
   double min_angle = none;
-#pragma omp parallel for reduction(min : min_angle) schedule(static) if (face_count >= 4096)
+#pragma omp parallel for reduction(min : min_angle) schedule(static) if (face_count >= parallel_faces)
   for (std::int64_t face = 0; face < face_count; ++face) {
     const std::size_t f = 3 * static_cast<std::size_t>(face);
     const Vec3 p[3] = {node_at(node_pos, face_nodes[f]), node_at(node_pos, face_nodes[f + 1]),

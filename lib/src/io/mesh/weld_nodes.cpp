@@ -51,11 +51,22 @@ void check_arrays(const Mesh& mesh, const char* who) {
   }
 }
 
+/// Loops over this many faces or nodes, or more, run on the OpenMP threads; each writes only its
+/// own elements, or stores a flag atomically.
+constexpr std::int64_t parallel_items = 1 << 14;
+
 std::vector<std::uint8_t> used_nodes(const Mesh& mesh) {
   std::vector<std::uint8_t> used(mesh.node_count(), 0);
-  for (index_t node : mesh.face_nodes) used[node] = 1;
+  const std::int64_t corners = static_cast<std::int64_t>(mesh.face_nodes.size());
+#pragma omp parallel for schedule(static) if (corners >= parallel_items)
+  for (std::int64_t c = 0; c < corners; ++c) {
+#pragma omp atomic write
+    used[mesh.face_nodes[c]] = 1;
+  }
   return used;
 }
+
+bool repeats_a_node(const index_t* n) { return n[0] == n[1] || n[1] == n[2] || n[2] == n[0]; }
 
 /// values[i] = values[kept[i]] for each node of `width` values. In place when `kept` ascends (each
 /// node moves down, never past one not yet read), else through a copy.
@@ -113,8 +124,21 @@ double median_edge(const Mesh& mesh) {
 /// without a word as a face repeating a vertex is.
 void count_collapsed(const Mesh& mesh, const std::vector<index_t>& node_group, WeldReport& report) {
   constexpr double precision_steps = 1024;
-  for (float x : mesh.node_pos)
-    if (std::isfinite(x)) report.largest_coordinate = std::max(report.largest_coordinate, std::fabs(double(x)));
+  const std::int64_t values = static_cast<std::int64_t>(mesh.node_pos.size());
+  double largest = report.largest_coordinate;
+#pragma omp parallel for schedule(static) reduction(max : largest) if (values >= parallel_items)
+  for (std::int64_t i = 0; i < values; ++i)
+    if (std::isfinite(mesh.node_pos[i])) largest = std::max(largest, std::fabs(double(mesh.node_pos[i])));
+  report.largest_coordinate = largest;
+  const std::int64_t faces = static_cast<std::int64_t>(mesh.face_count());
+  int any_joined = 0;  // a face of three nodes with two of them in one group: the only faces looked at below
+#pragma omp parallel for schedule(static) reduction(max : any_joined) if (faces >= parallel_items)
+  for (std::int64_t f = 0; f < faces; ++f) {
+    const index_t* n = &mesh.face_nodes[3 * f];
+    const index_t group[3] = {node_group[n[0]], node_group[n[1]], node_group[n[2]]};
+    if (!repeats_a_node(n) && repeats_a_node(group)) any_joined = 1;
+  }
+  if (!any_joined) return;
   int exponent = 0;
   std::frexp(report.largest_coordinate, &exponent);
   const double step = report.largest_coordinate > 0 ? std::ldexp(1.0, exponent - 24) : 0.0;
@@ -147,6 +171,23 @@ void count_collapsed(const Mesh& mesh, const std::vector<index_t>& node_group, W
   report.joined_nodes += static_cast<std::int64_t>(joined.size() - group_count);
 }
 
+/// `nodes` (ascending) stably sorted by `key[node]`: as (key, node) pairs in one 64-bit word, sorted
+/// on the OpenMP threads, where every key fits in 32 bits (ids do); else by comparisons.
+void order_by_key(std::vector<index_t>& nodes, const std::vector<std::int64_t>& key) {
+  const bool packs = std::all_of(nodes.begin(), nodes.end(),
+                                 [&](index_t node) { return key[node] >= 0 && key[node] <= 0xFFFFFFFFll; });
+  if (!packs) {
+    std::stable_sort(nodes.begin(), nodes.end(), [&](index_t a, index_t b) { return key[a] < key[b]; });
+    return;
+  }
+  std::vector<std::uint64_t> pairs(nodes.size());
+  for (std::size_t i = 0; i < nodes.size(); ++i)
+    pairs[i] = (static_cast<std::uint64_t>(key[nodes[i]]) << 32) | static_cast<std::uint32_t>(nodes[i]);
+  // The pairs are distinct, so any sort puts them in the one order a stable sort by key gives.
+  __gnu_parallel::sort(pairs.begin(), pairs.end());
+  for (std::size_t i = 0; i < nodes.size(); ++i) nodes[i] = static_cast<index_t>(pairs[i] & 0xFFFFFFFFu);
+}
+
 /// Merges every node into its group's representative `node_group[node]` (a node of the group,
 /// `node_group[rep] == rep`), then keeps the representatives some face still uses, ordered by
 /// `group_key[rep]` (ascending, ties by index; by index alone when `group_key` is empty).
@@ -157,11 +198,25 @@ void merge_nodes(Mesh& mesh, const std::vector<index_t>& node_group, const std::
                  WeldReport* report = nullptr) {
   const index_t face_count = mesh.face_count();
   if (report) count_collapsed(mesh, node_group, *report);
-  // Compacted in place: a kept face moves to its running count, never past where it was read.
   std::vector<index_t>& face_nodes = mesh.face_nodes;
   std::vector<float>&corner_uv = mesh.corner_uv, &corner_normal = mesh.corner_normal;
-  std::size_t kept_faces = 0;
-  for (index_t face = 0; face < face_count; ++face) {
+  const std::int64_t faces = face_count;
+  int any_dropped = 0;
+#pragma omp parallel for schedule(static) reduction(max : any_dropped) if (faces >= parallel_items)
+  for (std::int64_t f = 0; f < faces; ++f) {
+    const index_t group[3] = {node_group[face_nodes[3 * f]], node_group[face_nodes[3 * f + 1]],
+                              node_group[face_nodes[3 * f + 2]]};
+    if (repeats_a_node(group)) any_dropped = 1;
+  }
+  // Compacted in place: a kept face moves to its running count, never past where it was read.
+  // Where no face is dropped, each keeps its place.
+  std::size_t kept_faces = any_dropped ? 0 : static_cast<std::size_t>(face_count);
+  if (!any_dropped) {
+    const std::int64_t corners = 3 * faces;
+#pragma omp parallel for schedule(static) if (corners >= parallel_items)
+    for (std::int64_t c = 0; c < corners; ++c) face_nodes[c] = node_group[face_nodes[c]];
+  }
+  for (index_t face = 0; any_dropped && face < face_count; ++face) {
     index_t merged[3];
     for (int k = 0; k < 3; ++k) merged[k] = node_group[face_nodes[3 * face + k]];
     if (merged[0] == merged[1] || merged[1] == merged[2] || merged[2] == merged[0]) continue;
@@ -183,18 +238,17 @@ void merge_nodes(Mesh& mesh, const std::vector<index_t>& node_group, const std::
   // The representatives still in use, in the order of their keys.
   std::vector<index_t> kept;
   {
-    std::vector<std::uint8_t> in_use(mesh.node_count(), 0);
-    for (index_t node : face_nodes) in_use[node] = 1;
+    const std::vector<std::uint8_t> in_use = used_nodes(mesh);
     for (index_t node = 0; node < mesh.node_count(); ++node) {
       if (in_use[node]) kept.push_back(node);
     }
   }
-  if (!group_key.empty()) {
-    std::stable_sort(kept.begin(), kept.end(), [&](index_t a, index_t b) { return group_key[a] < group_key[b]; });
-  }
+  if (!group_key.empty()) order_by_key(kept, group_key);
   std::vector<index_t> new_index(mesh.node_count(), none);
   for (std::size_t i = 0; i < kept.size(); ++i) new_index[kept[i]] = static_cast<index_t>(i);
-  for (index_t& node : face_nodes) node = new_index[node];
+  const std::int64_t corners = static_cast<std::int64_t>(face_nodes.size());
+#pragma omp parallel for schedule(static) if (corners >= parallel_items)
+  for (std::int64_t c = 0; c < corners; ++c) face_nodes[c] = new_index[face_nodes[c]];
 
   // Torn edges: mapped to the merged nodes, kept while they are an edge of exactly one face.
   std::vector<index_t> torn_edge_nodes;
@@ -338,6 +392,7 @@ void weld_nodes_by_id(Mesh& mesh, const std::vector<index_t>& node_id, WeldRepor
   }
   const std::vector<std::uint8_t> node_used = used_nodes(mesh);
   std::vector<index_t> order;
+  index_t largest_id = -1;
   for (index_t node = 0; node < node_count; ++node) {
     if (!node_used[node]) continue;
     if (node_id[node] < 0) {
@@ -345,20 +400,32 @@ void weld_nodes_by_id(Mesh& mesh, const std::vector<index_t>& node_id, WeldRepor
                                         std::to_string(node_id[node]));
     }
     order.push_back(node);
+    largest_id = std::max(largest_id, node_id[node]);
   }
-  // Sorted by (id, index): each run of one id starts with its lowest index, the representative.
-  // (id, index) in one 64-bit key sorts without looking the ids up; ids are >= 0 here.
-  std::vector<std::uint64_t> id_node(order.size());
-  for (std::size_t i = 0; i < order.size(); ++i) {
-    id_node[i] = (static_cast<std::uint64_t>(node_id[order[i]]) << 32) | static_cast<std::uint32_t>(order[i]);
-  }
-  __gnu_parallel::sort(id_node.begin(), id_node.end());
+  // Each id's representative is its node of the lowest index.
   std::vector<index_t> node_group(node_count);
   std::iota(node_group.begin(), node_group.end(), 0);
-  for (std::size_t i = 1; i < id_node.size(); ++i) {
-    if (id_node[i] >> 32 == id_node[i - 1] >> 32) {
-      node_group[static_cast<index_t>(id_node[i] & 0xFFFFFFFFu)] =
-          node_group[static_cast<index_t>(id_node[i - 1] & 0xFFFFFFFFu)];
+  if (static_cast<std::int64_t>(largest_id) <= 4 * static_cast<std::int64_t>(order.size()) + 1024) {
+    // Ids about as many as the nodes (tear's own files number them 0, 1, ...): a table by id.
+    std::vector<index_t> first(static_cast<std::size_t>(largest_id) + 1, none);
+    for (index_t node : order) {
+      index_t& representative = first[node_id[node]];
+      if (representative == none) representative = node;
+      node_group[node] = representative;
+    }
+  } else {
+    // Sorted by (id, index): each run of one id starts with its lowest index, the representative.
+    // (id, index) in one 64-bit key sorts without looking the ids up; ids are >= 0 here.
+    std::vector<std::uint64_t> id_node(order.size());
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      id_node[i] = (static_cast<std::uint64_t>(node_id[order[i]]) << 32) | static_cast<std::uint32_t>(order[i]);
+    }
+    __gnu_parallel::sort(id_node.begin(), id_node.end());
+    for (std::size_t i = 1; i < id_node.size(); ++i) {
+      if (id_node[i] >> 32 == id_node[i - 1] >> 32) {
+        node_group[static_cast<index_t>(id_node[i] & 0xFFFFFFFFu)] =
+            node_group[static_cast<index_t>(id_node[i - 1] & 0xFFFFFFFFu)];
+      }
     }
   }
   std::vector<std::int64_t> group_key(node_id.begin(), node_id.end());
