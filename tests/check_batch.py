@@ -11,7 +11,10 @@
 - a list that is not JSON, or not a list, exits 2 and runs nothing;
 - every shot ok: exit 0, nothing on standard error;
 - 100 shots, one of them bad (a missing mesh): the other 99 write exactly what `tear run` writes
-  alone for each, the bad one is reported with its message and code, and the batch exits 2.
+  alone for each, the bad one is reported with its message and code, and the batch exits 2;
+- a shot whose mesh is the frame the shot before it writes (over an older file there) reads the
+  new frame; a shot's warning about its mesh, read while the shot before failed, comes after that
+  shot's message.
 """
 
 import json
@@ -137,6 +140,44 @@ with tempfile.TemporaryDirectory(prefix="tear-batch-") as work:
         else:
             check(False, "shot %d of 100: its files are not tear run's (%d, %r)" % (i, ra.returncode, ra.stderr))
     check(same == 99, "99 of the 100 shots write what tear run writes alone, got %d" % same)
+
+    # A shot that reads a file the shot before it writes reads it once written: the batch reads a
+    # shot's mesh beside the shot before only when it lies apart from what that shot writes.
+    chain, after = os.path.join(work, "chain"), os.path.join(work, "after")
+    uncut = os.path.join(work, "uncut.json")
+    with open(uncut, "w") as f:
+        json.dump({"version": 1, "frames": 1, "cuts": []}, f)
+    cut_a, cut_b = os.path.join(work, "cut_a.json"), os.path.join(work, "cut_b.json")
+    for path, line in ((cut_a, [[0.2, 0.5], [0.8, 0.5]]), (cut_b, [[0.5, 0.2], [0.5, 0.8]])):
+        with open(path, "w") as f:
+            json.dump({"version": 1, "frames": 1, "cuts": [{"frame": 1, "space": "rest-xy", "polyline": line}]}, f)
+    stale = tear("run", MESH, uncut, "-o", os.path.join(chain, "f.####.ply"), "--device", "cpu")
+    check(stale.returncode == 0, "an earlier run's frame in the chain's folder: %r" % stale.stderr)
+    chained = [{"mesh": MESH, "script": cut_a, "output": os.path.join(chain, "f.####.ply")},
+               {"mesh": os.path.join(chain, "f.0001.ply"), "script": cut_b, "output": os.path.join(after, "f.####.ply")}]
+    with open(shots_path, "w") as f:
+        json.dump(chained, f)
+    r = tear("batch", shots_path, "--device", "cpu")
+    check(r.returncode == 0, "a chain of two shots runs: %d %r" % (r.returncode, r.stderr))
+    ra = tear("run", os.path.join(chain, "f.0001.ply"), cut_b, "-o", os.path.join(work, "after_alone", "f.####.ply"),
+              "--device", "cpu")
+    check(ra.returncode == 0 and files(after) == files(os.path.join(work, "after_alone")),
+          "the second shot of a chain reads the first shot's frame, not the file there before it")
+
+    # Messages keep the shots' order when a shot's mesh is read ahead: the first shot's failure,
+    # then the second's warning about its mesh (read while the first ran).
+    welded = {"mesh": MESH, "script": SLIT, "output": os.path.join(work, "welded", "f.####.ply"),
+              "weld_tolerance": 0.02}
+    with open(shots_path, "w") as f:
+        json.dump([{"mesh": MESH, "script": os.path.join(work, "no_script.json"),
+                    "output": os.path.join(work, "none", "f.####.ply")}, welded], f)
+    r = tear("batch", shots_path, "--device", "cpu")
+    lines = r.stderr.splitlines()
+    # (The welded mesh's frames have inverted faces too: warned as they are written, after.)
+    check(r.returncode == 2 and len(lines) >= 3, "a failed shot, then a warned one: %d %r" % (r.returncode, lines))
+    check(len(lines) >= 3 and "no_script.json" in lines[0] and lines[1].startswith("tear: warning: " + MESH) and
+          lines[-1].startswith("tear: " + shots_path + ": 1 of 2 shots failed: [0]"),
+          "the failure, the warning and the summary in the shots' order: %r" % lines)
 
 if failures:
     print("%d check(s) failed" % len(failures), file=sys.stderr)

@@ -1,6 +1,8 @@
 // `tear batch SHOTS.json`: a list of shots, each the arguments of one `tear run`, run one after the
 // other in this process. Each shot writes, reports and fails as if it had run alone.
 #include <climits>
+#include <filesystem>
+#include <future>
 #include <cmath>
 #include <fstream>
 #include <iostream>
@@ -117,6 +119,39 @@ RunCommandOptions shot_options(const nlohmann::json& shot, std::size_t index, co
   return options;
 }
 
+/// The folder `path` names or lies in, whole (links resolved as far as the path exists).
+std::filesystem::path folder_of(const std::string& path, bool is_folder) {
+  std::error_code error;
+  const std::filesystem::path whole = std::filesystem::weakly_canonical(std::filesystem::absolute(path), error);
+  if (error) return {};
+  return is_folder ? whole : whole.parent_path();
+}
+
+bool within(const std::filesystem::path& inner, const std::filesystem::path& outer) {
+  auto o = outer.begin();
+  for (auto i = inner.begin(); o != outer.end(); ++i, ++o)
+    if (i == inner.end() || *i != *o) return false;
+  return true;
+}
+
+/// Whether `next`'s mesh may be read while `running` runs: when it lies in none of the folders
+/// `running` writes into (its frames', report's and checkpoint's, and below them), so that a shot
+/// reading a file an earlier shot wrote reads it once written.
+bool reads_apart(const RunCommandOptions& next, const RunCommandOptions& running) {
+  const std::filesystem::path mesh_folder = folder_of(next.mesh_path, false);
+  if (mesh_folder.empty()) return false;
+  // The frames' folder: the pattern up to its first placeholder.
+  const std::string& pattern = running.output_pattern;
+  const std::string fixed = pattern.substr(0, pattern.find_first_of("#{"));
+  std::vector<std::filesystem::path> written{folder_of(fixed, !fixed.empty() && fixed.back() == '/')};
+  if (fixed.empty()) written.back() = folder_of(".", true);
+  for (const std::string* file : {&running.report_path, &running.farm.checkpoint_path})
+    if (!file->empty()) written.push_back(folder_of(*file, false));
+  for (const std::filesystem::path& folder : written)
+    if (folder.empty() || within(mesh_folder, folder)) return false;
+  return true;
+}
+
 /// The list of shots; anything but a readable JSON array is bad input of the batch as a whole.
 nlohmann::json read_shots(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
@@ -136,11 +171,13 @@ nlohmann::json read_shots(const std::string& path) {
 
 /// Shot after shot allocates and frees arrays of the same sizes. By default glibc gives blocks of
 /// a few megabytes back to the system as they are freed and the next shot faults every page of
-/// them in again (a sixth of a 1M-face shot's time): a batch keeps them for its next shot.
+/// them in again (a sixth of a 1M-face shot's time): a batch keeps them for its next shot, in one
+/// arena, so that each shot's new writer threads take the blocks the last shot's freed.
 void keep_freed_memory() {
 #if defined(__GLIBC__)
   mallopt(M_MMAP_THRESHOLD, 32 << 20);  // the most glibc takes: larger blocks are still mapped each time
   mallopt(M_TRIM_THRESHOLD, INT_MAX);
+  mallopt(M_ARENA_MAX, 1);
 #endif
 }
 
@@ -152,10 +189,30 @@ void run_batch(const BatchOptions& batch) {
   const std::size_t count = shots.size();
   int batch_code = 0;
   std::vector<std::string> failed;
+  // While a shot runs, the next shot's mesh is read beside it (when it lies apart from what the
+  // shot writes); what reading found or threw is said at the next shot's turn, as alone.
+  std::future<MeshRead> ahead;
   for (std::size_t i = 0; i < count; ++i) {
     int code = 0;
     try {
-      run_run(shot_options(shots[i], i, batch));
+      RunCommandOptions options = shot_options(shots[i], i, batch);
+      std::future<MeshRead> mesh = std::move(ahead);
+      if (!mesh.valid()) {
+        std::promise<MeshRead> read;
+        read.set_value(read_mesh_quietly(options.mesh_path, options.read));
+        mesh = read.get_future();
+      }
+      options.mesh_read = &mesh;
+      if (i + 1 < count) {
+        try {
+          const RunCommandOptions next = shot_options(shots[i + 1], i + 1, batch);
+          if (reads_apart(next, options))
+            ahead = std::async(std::launch::async, read_mesh_quietly, next.mesh_path, next.read);
+        } catch (...) {
+          // the next shot's entry is wrong: said at its turn
+        }
+      }
+      run_run(options);
     } catch (...) {
       const Failure failure = current_failure();
       code = failure.code;

@@ -5,6 +5,7 @@
 // (or any exception); main.cpp alone turns exceptions into exit codes and messages.
 #pragma once
 
+#include <exception>
 #include <string>
 #include <vector>
 
@@ -69,6 +70,19 @@ void add_strict_option(CLI::App& command, bool& strict);
 /// what is returned can go to `build_topology`. What welding did to data the file kept apart
 /// (`WeldReport`) is a warning on standard error, or with `strict` a runtime `Error` (exit 3).
 Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Device device, bool strict = false);
+
+/// A mesh file read (`read_mesh`) without a word said: the mesh and what welding did, or what
+/// reading threw. `tear batch` reads the next shot's mesh so while a shot runs.
+struct MeshRead {
+  Mesh mesh;
+  WeldReport welded;
+  std::exception_ptr failure;
+};
+MeshRead read_mesh_quietly(const std::string& path, const ReadOptions& options);
+
+/// `read_checked_mesh` of a mesh read before: throws what reading threw, then checks and warns as
+/// `read_checked_mesh` does.
+Mesh checked_mesh(MeshRead read, const std::string& path, Device device, bool strict = false);
 
 }  // namespace tear::cli
 

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <iostream>
 #include <new>
+#include <utility>
 #include <limits>
 #include <string>
 #include <vector>
@@ -120,8 +121,23 @@ void add_strict_option(CLI::App& command, bool& strict) {
 }
 
 Mesh read_checked_mesh(const std::string& path, const ReadOptions& options, Device device, bool strict) {
-  WeldReport welded;
-  Mesh mesh = read_mesh(path, options, welded);
+  return checked_mesh(read_mesh_quietly(path, options), path, device, strict);
+}
+
+MeshRead read_mesh_quietly(const std::string& path, const ReadOptions& options) {
+  MeshRead read;
+  try {
+    read.mesh = read_mesh(path, options, read.welded);
+  } catch (...) {
+    read.failure = std::current_exception();
+  }
+  return read;
+}
+
+Mesh checked_mesh(MeshRead read, const std::string& path, Device device, bool strict) {
+  if (read.failure) std::rethrow_exception(read.failure);
+  Mesh mesh = std::move(read.mesh);
+  const WeldReport& welded = read.welded;
   const MeshReport report = check_indices(mesh, device);
   if (!report.readable())
     throw input_error(path, report.describe() + " (the mesh has " + plural(mesh.node_count(), "node", "nodes") +

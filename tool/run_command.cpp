@@ -74,7 +74,8 @@ void run_run(const RunCommandOptions& options) {
     throw Error(ErrorKind::usage, "--up-axis and --meters-per-unit apply to USD output only (.usda, .usd), not to '" +
                                       options.output_pattern + "'");
   const UpAxis up_axis = parse_up_axis(options.up_axis);
-  const Mesh mesh = read_checked_mesh(options.mesh_path, options.read, device, options.strict);
+  const Mesh mesh = options.mesh_read ? checked_mesh(options.mesh_read->get(), options.mesh_path, device, options.strict)
+                                      : read_checked_mesh(options.mesh_path, options.read, device, options.strict);
   const CutScript script = read_cut_script(options.script_path);
 
   RunOptions run;

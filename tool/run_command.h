@@ -1,7 +1,10 @@
 // tear CLI: the options of `tear run` and the run itself, shared by `tear run` and `tear batch`.
 #pragma once
 
+#include <future>
 #include <string>
+
+#include "commands.h"
 
 #include "farm.h"
 #include "tear/read_mesh.h"
@@ -24,6 +27,9 @@ struct RunCommandOptions {
   bool verbose = false;
   bool strict = false;  // --strict: data warnings fail (exit 3)
   FarmOptions farm;
+  /// The mesh, already read (`tear batch` reads a shot's mesh ahead): taken instead of reading
+  /// `mesh_path` (with `read`) when set.
+  std::future<MeshRead>* mesh_read = nullptr;
 };
 
 /// One whole `tear run`: throws what the run throws (main.cpp, or `tear batch`, turns it into the
