@@ -105,46 +105,25 @@ void add_tearing(nlohmann::json& entry, const FrameResult& frame) {
 /// Meshes of this many faces or more are measured on the OpenMP threads.
 constexpr std::int64_t parallel_faces = 4096;
 
-/// Per face the cross product of two of its edges (its normal scaled by twice its area), and per
-/// node the sum of those of its faces: the area-weighted normals.
-void face_crosses(const Mesh& mesh, std::vector<Vec3>& face_cross, std::vector<Vec3>& node_sum) {
-  const std::int64_t face_count = mesh.face_count(), node_count = mesh.node_count();
-  const bool parallel = face_count >= parallel_faces;
-  face_cross.resize(static_cast<std::size_t>(face_count));
-#pragma omp parallel for schedule(static) if (parallel)
-  for (std::int64_t f = 0; f < face_count; ++f) {
-    const index_t* nodes = &mesh.face_nodes[3 * static_cast<std::size_t>(f)];
-    const Vec3 p0 = node_at(mesh.node_pos, nodes[0]);
-    face_cross[f] = cross(sub(node_at(mesh.node_pos, nodes[1]), p0), sub(node_at(mesh.node_pos, nodes[2]), p0));
+/// The cross product of two of face `f`'s edges: its normal scaled by twice its area.
+Vec3 face_cross(const Mesh& mesh, std::size_t f) {
+  const index_t* nodes = &mesh.face_nodes[3 * f];
+  const Vec3 p0 = node_at(mesh.node_pos, nodes[0]);
+  return cross(sub(node_at(mesh.node_pos, nodes[1]), p0), sub(node_at(mesh.node_pos, nodes[2]), p0));
+}
+
+/// Per node the sum of its faces' cross products (the area-weighted normal), summed in face order
+/// on one thread: the same sums whatever the number of threads of the passes that read them.
+std::vector<Vec3> node_normal_sums(const Mesh& mesh) {
+  std::vector<Vec3> node_sum(static_cast<std::size_t>(mesh.node_count()), Vec3{0, 0, 0});
+  const std::size_t face_count = static_cast<std::size_t>(mesh.face_count());
+  for (std::size_t f = 0; f < face_count; ++f) {
+    const Vec3 c = face_cross(mesh, f);
+    const index_t* nodes = &mesh.face_nodes[3 * f];
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a) node_sum[nodes[k]][a] += c[a];
   }
-  // Each node's corners in ascending order, so that its sum is taken in face order on any number
-  // of threads: counted, then placed in any order and each node's few sorted.
-  const std::int64_t corners = 3 * face_count;
-  std::vector<std::int64_t> first(static_cast<std::size_t>(node_count) + 1, 0);
-#pragma omp parallel for schedule(static) if (parallel)
-  for (std::int64_t c = 0; c < corners; ++c) {
-#pragma omp atomic update
-    ++first[mesh.face_nodes[c] + 1];
-  }
-  for (std::int64_t n = 0; n < node_count; ++n) first[n + 1] += first[n];
-  std::vector<std::int64_t> next(first.begin(), first.end() - 1);
-  std::vector<std::int64_t> node_corners(static_cast<std::size_t>(corners));
-#pragma omp parallel for schedule(static) if (parallel)
-  for (std::int64_t c = 0; c < corners; ++c) {
-    std::int64_t slot;
-#pragma omp atomic capture
-    slot = next[mesh.face_nodes[c]]++;
-    node_corners[slot] = c;
-  }
-  node_sum.resize(static_cast<std::size_t>(node_count));
-#pragma omp parallel for schedule(static) if (parallel)
-  for (std::int64_t n = 0; n < node_count; ++n) {
-    std::sort(node_corners.begin() + first[n], node_corners.begin() + first[n + 1]);
-    Vec3 sum{0, 0, 0};
-    for (std::int64_t i = first[n]; i < first[n + 1]; ++i)
-      for (int a = 0; a < 3; ++a) sum[a] += face_cross[node_corners[i] / 3][a];
-    node_sum[n] = sum;
-  }
+  return node_sum;
 }
 
 }  // namespace
@@ -154,18 +133,18 @@ FaceQuality face_quality(const Mesh& mesh) {
   const kernels::face_degenerate degenerate{mesh.node_pos.data(), mesh.face_nodes.data(), degenerate_area_ratio};
   // At a corner, the node's sum of area-weighted normals less the face's own is the normal of the
   // other faces there.
-  std::vector<Vec3> face_cross, node_sum;
-  face_crosses(mesh, face_cross, node_sum);
+  const std::vector<Vec3> node_sum = node_normal_sums(mesh);
   std::int64_t degenerate_faces = 0, inverted_faces = 0;
 #pragma omp parallel for schedule(static) reduction(+ : degenerate_faces, inverted_faces) if (face_count >= parallel_faces)
   for (index_t f = 0; f < face_count; ++f) {
     degenerate_faces += degenerate(f);
     const index_t* nodes = &mesh.face_nodes[3 * static_cast<std::size_t>(f)];
     if (nodes[0] == nodes[1] || nodes[1] == nodes[2] || nodes[2] == nodes[0]) continue;
+    const Vec3 own = face_cross(mesh, static_cast<std::size_t>(f));
     int against = 0;
     for (int k = 0; k < 3; ++k) {
-      const Vec3 others = sub(node_sum[nodes[k]], face_cross[f]);
-      if (dot(others, face_cross[f]) < 0) ++against;
+      const Vec3 others = sub(node_sum[nodes[k]], own);
+      if (dot(others, own) < 0) ++against;
     }
     if (against >= 2) ++inverted_faces;
   }
@@ -185,14 +164,13 @@ std::string FaceQuality::describe() const {
 
 std::vector<float> area_weighted_corner_normals(const Mesh& mesh) {
   const index_t face_count = mesh.face_count();
-  std::vector<Vec3> face_cross, node_sum;
-  face_crosses(mesh, face_cross, node_sum);
+  const std::vector<Vec3> node_sum = node_normal_sums(mesh);
   std::vector<float> corner_normal(9 * static_cast<std::size_t>(face_count), 0.0f);
 #pragma omp parallel for schedule(static) if (face_count >= parallel_faces)
   for (index_t f = 0; f < face_count; ++f) {
     for (int k = 0; k < 3; ++k) {
       Vec3 n = node_sum[mesh.face_nodes[3 * static_cast<std::size_t>(f) + k]];
-      if (!(norm(n) > 0)) n = face_cross[f];
+      if (!(norm(n) > 0)) n = face_cross(mesh, static_cast<std::size_t>(f));
       const double length = norm(n);
       if (!(length > 0)) continue;
       for (int a = 0; a < 3; ++a) corner_normal[9 * static_cast<std::size_t>(f) + 3 * k + a] = float(n[a] / length);
