@@ -196,13 +196,9 @@ void run_batch(const BatchOptions& batch) {
     int code = 0;
     try {
       RunCommandOptions options = shot_options(shots[i], i, batch);
+      // Read ahead, or read by the shot itself (its report's `input_ms` then holds the reading).
       std::future<MeshRead> mesh = std::move(ahead);
-      if (!mesh.valid()) {
-        std::promise<MeshRead> read;
-        read.set_value(read_mesh_quietly(options.mesh_path, options.read));
-        mesh = read.get_future();
-      }
-      options.mesh_read = &mesh;
+      if (mesh.valid()) options.mesh_read = &mesh;
       if (i + 1 < count) {
         try {
           const RunCommandOptions next = shot_options(shots[i + 1], i + 1, batch);
