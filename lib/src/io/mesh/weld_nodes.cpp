@@ -188,16 +188,10 @@ void order_by_key(std::vector<index_t>& nodes, const std::vector<std::int64_t>& 
   for (std::size_t i = 0; i < nodes.size(); ++i) nodes[i] = static_cast<index_t>(pairs[i] & 0xFFFFFFFFu);
 }
 
-/// Merges every node into its group's representative `node_group[node]` (a node of the group,
-/// `node_group[rep] == rep`), then keeps the representatives some face still uses, ordered by
-/// `group_key[rep]` (ascending, ties by index; by index alone when `group_key` is empty).
-/// Faces left with a repeated node are dropped with their corner attributes; the node arrays
-/// (positions, velocities, origins) take the representative's values; torn edges follow their
-/// nodes and are kept only while they are still an edge of exactly one face.
-void merge_nodes(Mesh& mesh, const std::vector<index_t>& node_group, const std::vector<std::int64_t>& group_key,
-                 WeldReport* report = nullptr) {
+/// Each face's nodes replaced by their groups' representatives; faces left with a repeated node
+/// dropped with their corner attributes.
+void merge_faces(Mesh& mesh, const std::vector<index_t>& node_group) {
   const index_t face_count = mesh.face_count();
-  if (report) count_collapsed(mesh, node_group, *report);
   std::vector<index_t>& face_nodes = mesh.face_nodes;
   std::vector<float>&corner_uv = mesh.corner_uv, &corner_normal = mesh.corner_normal;
   const std::int64_t faces = face_count;
@@ -208,18 +202,18 @@ void merge_nodes(Mesh& mesh, const std::vector<index_t>& node_group, const std::
                               node_group[face_nodes[3 * f + 2]]};
     if (repeats_a_node(group)) any_dropped = 1;
   }
-  // Compacted in place: a kept face moves to its running count, never past where it was read.
-  // Where no face is dropped, each keeps its place.
-  std::size_t kept_faces = any_dropped ? 0 : static_cast<std::size_t>(face_count);
-  if (!any_dropped) {
+  if (!any_dropped) {  // each face keeps its place
     const std::int64_t corners = 3 * faces;
 #pragma omp parallel for schedule(static) if (corners >= parallel_items)
     for (std::int64_t c = 0; c < corners; ++c) face_nodes[c] = node_group[face_nodes[c]];
+    return;
   }
-  for (index_t face = 0; any_dropped && face < face_count; ++face) {
+  // Compacted in place: a kept face moves to its running count, never past where it was read.
+  std::size_t kept_faces = 0;
+  for (index_t face = 0; face < face_count; ++face) {
     index_t merged[3];
     for (int k = 0; k < 3; ++k) merged[k] = node_group[face_nodes[3 * face + k]];
-    if (merged[0] == merged[1] || merged[1] == merged[2] || merged[2] == merged[0]) continue;
+    if (repeats_a_node(merged)) continue;
     std::copy(merged, merged + 3, face_nodes.begin() + 3 * kept_faces);
     if (mesh.has_uv()) {
       std::copy(corner_uv.begin() + 6 * face, corner_uv.begin() + 6 * face + 6, corner_uv.begin() + 6 * kept_faces);
@@ -234,6 +228,19 @@ void merge_nodes(Mesh& mesh, const std::vector<index_t>& node_group, const std::
   face_nodes.resize(3 * kept_faces);
   if (with_uv) corner_uv.resize(6 * kept_faces);
   if (with_normals) corner_normal.resize(9 * kept_faces);
+}
+
+/// Merges every node into its group's representative `node_group[node]` (a node of the group,
+/// `node_group[rep] == rep`), then keeps the representatives some face still uses, ordered by
+/// `group_key[rep]` (ascending, ties by index; by index alone when `group_key` is empty).
+/// Faces left with a repeated node are dropped with their corner attributes; the node arrays
+/// (positions, velocities, origins) take the representative's values; torn edges follow their
+/// nodes and are kept only while they are still an edge of exactly one face.
+void merge_nodes(Mesh& mesh, const std::vector<index_t>& node_group, const std::vector<std::int64_t>& group_key,
+                 WeldReport* report = nullptr) {
+  if (report) count_collapsed(mesh, node_group, *report);
+  merge_faces(mesh, node_group);
+  std::vector<index_t>& face_nodes = mesh.face_nodes;
 
   // The representatives still in use, in the order of their keys.
   std::vector<index_t> kept;
