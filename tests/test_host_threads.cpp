@@ -11,12 +11,14 @@
 #include <numeric>
 #include <random>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <omp.h>
 
 #include "catch.h"
 #include "cloth/face_pieces.h"
+#include "tear/device.h"
 #include "tear/make_sheet.h"
 #include "tear/read_mesh.h"
 #include "tear/run_cuts.h"
@@ -219,4 +221,21 @@ TEST_CASE("host threads: welding by id gives one mesh on 1 and 4 threads, dense 
   CHECK(wrong_place == 0);
   CHECK(std::find(id_of.begin(), id_of.end(), -1) == id_of.end());
   CHECK(std::adjacent_find(id_of.begin(), id_of.end(), std::greater_equal<index_t>()) == id_of.end());
+}
+
+TEST_CASE("host threads: a thread takes on the limit set_cpu_threads set when handed cpu_threads()", "[threads]") {
+  const int before = tear::cpu_threads();
+  tear::set_cpu_threads(3);
+  CHECK(tear::cpu_threads() == 3);
+  // A new thread begins with OpenMP's own limit (what `tear batch` hands on to its reading thread).
+  const int limit = tear::cpu_threads();
+  int seen = 0, handed = 0;
+  std::thread([&] {
+    seen = omp_get_max_threads();
+    tear::set_cpu_threads(limit);
+    handed = omp_get_max_threads();
+  }).join();
+  CHECK(handed == 3);
+  CHECK(seen >= 1);
+  tear::set_cpu_threads(before);
 }

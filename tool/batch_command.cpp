@@ -202,8 +202,13 @@ void run_batch(const BatchOptions& batch) {
       if (i + 1 < count) {
         try {
           const RunCommandOptions next = shot_options(shots[i + 1], i + 1, batch);
+          // Read on as many threads as the batch's --threads allows (a new thread starts at OpenMP's).
+          const int threads = cpu_threads();
           if (reads_apart(next, options))
-            ahead = std::async(std::launch::async, read_mesh_quietly, next.mesh_path, next.read);
+            ahead = std::async(std::launch::async, [threads, path = next.mesh_path, read = next.read] {
+              set_cpu_threads(threads);
+              return read_mesh_quietly(path, read);
+            });
         } catch (...) {
           // the next shot's entry is wrong: said at its turn
         }

@@ -56,6 +56,10 @@ void synchronize(Device device);
 /// program turns a Slurm job's `SLURM_CPUS_PER_TASK` into `OMP_NUM_THREADS`, docs/cli.md).
 void set_cpu_threads(int threads);
 
+/// The limit `set_cpu_threads` set for this thread, else OpenMP's (a thread that starts another,
+/// which begins with OpenMP's, hands it on so).
+int cpu_threads();
+
 /// Memory held by tear's arrays on a backend now, and the most held since the last
 /// `reset_memory_peak`, in bytes: GPU memory for Device::cuda (arrays and cached scratch buffers);
 /// host memory of the CPU backend's arrays for Device::cpu (without Thrust's short-lived scratch

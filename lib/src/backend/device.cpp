@@ -138,6 +138,8 @@ std::string device_name(Device device) {
   return "CPU (" + std::to_string(omp_get_max_threads()) + " threads)";
 }
 
+int cpu_threads() { return omp_get_max_threads(); }
+
 void set_cpu_threads(int threads) {
   if (threads < 1) throw Error(ErrorKind::usage, "--threads: expected a number >= 1, got " + std::to_string(threads));
   omp_set_num_threads(threads);
