@@ -8,6 +8,8 @@
 #include <limits>
 #include <numeric>
 
+#include "topology/lower_to.h"
+
 namespace tear {
 
 namespace {
@@ -44,13 +46,6 @@ void unite(std::vector<index_t>& parent, index_t a, index_t b) {
     if (a < b) std::swap(a, b);
     index_t expected = a;
     if (__atomic_compare_exchange_n(&parent[a], &expected, b, false, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) return;
-  }
-}
-
-/// Lowers `slot` to `value` when that is smaller; other threads may lower it at the same time.
-void lower_to(index_t& slot, index_t value) {
-  index_t seen = __atomic_load_n(&slot, __ATOMIC_RELAXED);
-  while (value < seen && !__atomic_compare_exchange_n(&slot, &seen, value, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
   }
 }
 

@@ -8,15 +8,10 @@
 #include <utility>
 #include <vector>
 
+#include "topology/lower_to.h"
+
 namespace tear {
 namespace {
-
-/// Lowers `slot` to `value` when that is smaller; other threads may lower it at the same time.
-void lower_to(index_t& slot, index_t value) {
-  index_t seen = __atomic_load_n(&slot, __ATOMIC_RELAXED);
-  while (value < seen && !__atomic_compare_exchange_n(&slot, &seen, value, true, __ATOMIC_RELAXED, __ATOMIC_RELAXED)) {
-  }
-}
 
 /// Equal as numbers: -0 and +0 are one value (Blender writes both in normals), NaN is one value.
 bool same_value(float a, float b) { return a == b || (std::isnan(a) && std::isnan(b)); }

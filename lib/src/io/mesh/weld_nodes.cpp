@@ -147,7 +147,7 @@ void count_collapsed(const Mesh& mesh, const std::vector<index_t>& node_group, W
   const std::size_t face_count = static_cast<std::size_t>(mesh.face_count());
   for (std::size_t f = 0; f < face_count; ++f) {
     const index_t* n = &mesh.face_nodes[3 * f];
-    if (n[0] == n[1] || n[1] == n[2] || n[2] == n[0]) continue;
+    if (repeats_a_node(n)) continue;
     bool lost = false;
     for (int k = 0; k < 3; ++k) {
       const index_t a = n[k], b = n[(k + 1) % 3];
