@@ -4,16 +4,23 @@
 // The vertices are the cloth's nodes [0, node_count) followed by the mesh colliders' vertices
 // (bodies), each with its position at the substep's start (x0) and end (x1). Pairs are node–face
 // (a vertex and a triangle) and edge–edge. A pair is in contact when, at the end, the vertex (or
-// edge) is within `thickness` of the triangle (or other edge) on the side it was on at the start,
+// edge) is within the pair's thickness of the triangle (or other edge) on the side it was on at the start,
 // or when it crossed it during the substep (found by the time the four points are coplanar: the
 // motion, not only the end positions). Each contact moves its movable vertices (free cloth nodes:
 // pinned nodes and bodies do not move) apart along the triangle's (or the edges') normal, weighted
 // as a position constraint, with Coulomb friction on their relative motion; each vertex averages
 // the moves of its contacts, summed in the order of the pairs (a gather: no atomics).
 //
+// A pair's thickness is `thickness`, except for two parts of the cloth that lie within twice
+// that of each other in the rest shape (neighbours in the fabric): theirs is half their distance
+// there, so that the fabric's own wrinkles are not taken for contacts it can never leave. Two
+// sides of a tear (closer than `rest_gap` there) take no part.
+//
 // Broad phase: vertices and cloth edges, boxed over the substep's motion, are entered into a
-// uniform grid, each in the cell of its box's lowest corner (sorted by cell); each triangle and
-// edge looks up the cells its box covers and one more below. Each pair is found once.
+// uniform grid, each in every cell its box meets (sorted by cell); each triangle and edge looks up
+// the cells its box covers. Each pair is found once, and kept only if its two sides can come
+// within twice the pair's thickness of each other during the substep (their distance at the start
+// less how far they move against each other).
 //
 // Example: a node 1 mm above a face (thickness 5 mm), both moving down together, is moved up by
 // 4 mm where the face's nodes are pinned, or up 2 mm with the face down 2 mm where all are free
@@ -24,6 +31,7 @@
 #include <cstdint>
 
 #include "collision_geometry.h"
+#include "collision_grid.h"
 #include "hd.h"
 #include "pd_math.h"
 #include "pd_step.h"
@@ -72,59 +80,6 @@ struct CollisionEdges {
   }
 };
 
-TEAR_HD inline float min_of(float a, float b) { return b < a ? b : a; }
-TEAR_HD inline float max_of(float a, float b) { return b > a ? b : a; }
-
-/// An axis-aligned box.
-struct Box {
-  Vec3f lo, hi;
-  TEAR_HD void add(Vec3f p) {
-    lo = {min_of(lo.x, p.x), min_of(lo.y, p.y), min_of(lo.z, p.z)};
-    hi = {max_of(hi.x, p.x), max_of(hi.y, p.y), max_of(hi.z, p.z)};
-  }
-  TEAR_HD void grow(float r) {
-    lo = {lo.x - r, lo.y - r, lo.z - r};
-    hi = {hi.x + r, hi.y + r, hi.z + r};
-  }
-  TEAR_HD bool overlaps(const Box& b) const {
-    return lo.x <= b.hi.x && b.lo.x <= hi.x && lo.y <= b.hi.y && b.lo.y <= hi.y && lo.z <= b.hi.z && b.lo.z <= hi.z;
-  }
-  TEAR_HD static Box of(Vec3f p) { return {p, p}; }
-};
-
-/// The uniform grid of the broad phase: cells of side 1 / `inv_cell` from `origin`, at most 2²¹ a
-/// side. An item is entered once, in the cell of its box's lowest corner, when its box is no wider
-/// than a cell; a wider one is entered under `everywhere`, which every query looks at.
-struct CollisionGrid {
-  Vec3f origin;
-  float inv_cell;
-  static constexpr std::int32_t side = 1 << 21;
-  static constexpr std::uint64_t everywhere = ~std::uint64_t(0);
-
-  TEAR_HD std::int32_t coord(float x, float o) const {
-    const float c = floorf((x - o) * inv_cell);
-    return c < 0.0f ? 0 : c >= static_cast<float>(side - 1) ? side - 1 : static_cast<std::int32_t>(c);
-  }
-  TEAR_HD void cells(const Box& b, std::int32_t lo[3], std::int32_t hi[3]) const {
-    lo[0] = coord(b.lo.x, origin.x), lo[1] = coord(b.lo.y, origin.y), lo[2] = coord(b.lo.z, origin.z);
-    hi[0] = coord(b.hi.x, origin.x), hi[1] = coord(b.hi.y, origin.y), hi[2] = coord(b.hi.z, origin.z);
-  }
-  TEAR_HD static std::uint64_t key(std::int32_t i, std::int32_t j, std::int32_t k) {
-    return static_cast<std::uint64_t>(i) | static_cast<std::uint64_t>(j) << 21 | static_cast<std::uint64_t>(k) << 42;
-  }
-  /// The key an item of box `b` is entered under.
-  TEAR_HD std::uint64_t entry_key(const Box& b) const {
-    const Vec3f extent = b.hi - b.lo;
-    if (!(max_of(extent.x, max_of(extent.y, extent.z)) * inv_cell <= 1.0f)) return everywhere;
-    std::int32_t lo[3], hi[3];
-    cells(b, lo, hi);
-    // Clamped at the grid's edge, a box may end more than a cell from its lowest cell.
-    for (int a = 0; a < 3; ++a)
-      if (hi[a] - lo[a] > 1) return everywhere;
-    return key(lo[0], lo[1], lo[2]);
-  }
-};
-
 /// The box of vertex v over the substep's motion.
 TEAR_HD inline Box vertex_box(const CollisionVertices& x, index_t v) {
   Box b = Box::of(x.x0(v));
@@ -143,46 +98,49 @@ TEAR_HD inline Box edge_box(const CollisionVertices& x, const CollisionEdges& e,
   return b;
 }
 
-/// The entries of the grid: each vertex (or cloth edge), its box grown by `margin`, under its key.
+/// The entries of the grid: each vertex (or cloth edge), its box grown by `margin`, under the key
+/// of each cell it meets, in the cells' order; counted per item (`offset` null), then written at
+/// the scanned offsets.
 struct EnterItems {
   CollisionVertices x;
   CollisionEdges edges;
   CollisionGrid grid;
   float margin;
   bool of_edges;  ///< entries of cloth edges (else of vertices)
+  const index_t* offset;  ///< null: count into `count`
+  index_t* count;
   std::uint64_t* keys;
   index_t* items;
   TEAR_HD void operator()(index_t i) const {
     Box b = of_edges ? edge_box(x, edges, i) : vertex_box(x, i);
     b.grow(margin);
-    keys[i] = grid.entry_key(b);
-    items[i] = i;
+    std::int32_t lo[3], hi[3];
+    const std::int64_t cells = grid.entry_cells(b, lo, hi);
+    if (!offset) {
+      count[i] = cells ? static_cast<index_t>(cells) : 1;
+      return;
+    }
+    index_t out = offset[i];
+    if (!cells) {
+      keys[out] = CollisionGrid::everywhere;
+      items[out] = i;
+      return;
+    }
+    for (std::int32_t k = lo[2]; k <= hi[2]; ++k)
+      for (std::int32_t j = lo[1]; j <= hi[1]; ++j)
+        for (std::int32_t c = lo[0]; c <= hi[0]; ++c) {
+          keys[out] = CollisionGrid::key(c, j, k);
+          items[out++] = i;
+        }
   }
 };
 
-/// Two kinds of pairs: a vertex and a face (v = {p, a, b, c}) or two edges (v = {p, q, r, s}).
+/// Two kinds of pairs: a vertex and a face (v = {p, a, b, c}) or two edges (v = {p, q, r, s}),
+/// with the distance their contact keeps (metres).
 struct CollisionPair {
   index_t v[4];
   std::int32_t edge_edge;
-};
-
-/// A sorted grid's entries: keys ascending (`everywhere` last), each with its item.
-struct GridEntries {
-  const std::uint64_t* keys;
-  const index_t* items;
-  index_t count;
-  /// The first entry of `key` (or where it would be) among the first `end` entries.
-  TEAR_HD index_t lower_bound(std::uint64_t key, index_t end) const {
-    index_t lo = 0, hi = end;
-    while (lo < hi) {
-      const index_t mid = lo + (hi - lo) / 2;
-      if (keys[mid] < key)
-        lo = mid + 1;
-      else
-        hi = mid;
-    }
-    return lo;
-  }
+  float thickness;
 };
 
 /// The contact of pair `pair` at the vertices' current end positions: whether there is one, and
@@ -282,8 +240,12 @@ struct CollisionGeometry {
     return k;
   }
 
+  /// The geometry of the pair's own thickness.
+  TEAR_HD CollisionGeometry of(const CollisionPair& pair) const { return {x, pair.thickness}; }
+
   TEAR_HD Contact contact(const CollisionPair& pair) const {
-    return pair.edge_edge ? edge_edge(pair.v) : node_face(pair.v);
+    const CollisionGeometry g = of(pair);
+    return pair.edge_edge ? g.edge_edge(pair.v) : g.node_face(pair.v);
   }
 
   /// The first time of the substep at which four points moving from `q0` to `q1` meet: they are
@@ -316,10 +278,11 @@ struct CollisionGeometry {
     Vec3f s0[4], s1[4];
     for (int i = 0; i < 4; ++i) s0[i] = x.x0(pair.v[i]), s1[i] = x.x1(pair.v[i]);
     Vec3f w;
-    if (pair.edge_edge) return first_meeting(s0, s1, true, w);
+    const CollisionGeometry g = of(pair);
+    if (pair.edge_edge) return g.first_meeting(s0, s1, true, w);
     // A node and a face: the face's nodes first.
     const Vec3f q0[4] = {s0[1], s0[2], s0[3], s0[0]}, q1[4] = {s1[1], s1[2], s1[3], s1[0]};
-    return first_meeting(q0, q1, false, w);
+    return g.first_meeting(q0, q1, false, w);
   }
 };
 
@@ -472,8 +435,10 @@ struct find_pairs {
   }
   TEAR_HD Vec3f rest(index_t v) const { return load3<float>(x.cloth_rest, v); }
 
-  /// Whether face f and vertex p make a pair (v = {p, a, b, c}).
-  TEAR_HD bool node_face(index_t f, index_t p, index_t v[4]) const {
+  /// The thickness of a cloth pair whose two sides lie `rest_distance` apart in the rest shape.
+  TEAR_HD float cloth_thickness(float rest_distance) const { return min_of(margin, 0.4f * rest_distance); }
+  /// Whether face f and vertex p make a pair (v = {p, a, b, c}), and its thickness.
+  TEAR_HD bool node_face(index_t f, index_t p, index_t v[4], float& thickness) const {
     v[0] = p;
     for (int k = 0; k < 3; ++k) {
       v[k + 1] = faces.node(f, k);
@@ -481,34 +446,76 @@ struct find_pairs {
     }
     const bool cloth_face = f < faces.cloth_count, cloth_node = x.is_cloth(p);
     if (!cloth_face && !cloth_node) return false;
+    thickness = margin;
     if (cloth_face && cloth_node) {
       if (!self) return false;
-      if (point_triangle_distance(rest(p), rest(v[1]), rest(v[2]), rest(v[3])) < rest_gap) return false;
+      const float apart = point_triangle_distance(rest(p), rest(v[1]), rest(v[2]), rest(v[3]));
+      if (apart < rest_gap) return false;
+      thickness = cloth_thickness(apart);
     }
-    return x.w(v[0]) + x.w(v[1]) + x.w(v[2]) + x.w(v[3]) > 0.0f;
+    return x.w(v[0]) + x.w(v[1]) + x.w(v[2]) + x.w(v[3]) > 0.0f && may_come_near(v, false, thickness);
   }
-  /// Whether edge q and cloth edge e make a pair (v = {q's, e's}).
-  TEAR_HD bool edge_edge(index_t q, index_t e, index_t v[4]) const {
+  /// How far any point of one side of pair v moves over the substep against any point of the
+  /// other, at most: the largest motion of one side's vertex against one of the other's (a point
+  /// of either side moves as a weighted mean of its vertices). Sides: {v0} and {v1, v2, v3} for a
+  /// vertex and a face, {v0, v1} and {v2, v3} for two edges.
+  TEAR_HD float relative_motion(const index_t v[4], bool edge_pair) const {
+    Vec3f d[4];
+    for (int k = 0; k < 4; ++k) d[k] = x.x1(v[k]) - x.x0(v[k]);
+    const int first_end = edge_pair ? 2 : 1;
+    float most = 0.0f;
+    for (int i = 0; i < first_end; ++i)
+      for (int k = first_end; k < 4; ++k) most = max_of(most, norm(d[k] - d[i]));
+    return most;
+  }
+  /// Whether the pair can come within twice its thickness of each other over the substep: its
+  /// distance at the start less how far its vertices move against each other. Every point of one
+  /// side moves against every point of the other by at most that much.
+  TEAR_HD bool may_come_near(const index_t v[4], bool edge_pair, float thickness) const {
+    float gap;
+    if (edge_pair) {
+      float s, t;
+      const Vec3f a = x.x0(v[0]), b = x.x0(v[1]), c = x.x0(v[2]), d = x.x0(v[3]);
+      closest_on_segments(a, b, c, d, s, t);
+      gap = norm(lerp(c, d, t) - lerp(a, b, s));
+    } else {
+      gap = point_triangle_distance(x.x0(v[0]), x.x0(v[1]), x.x0(v[2]), x.x0(v[3]));
+    }
+    return !(gap - relative_motion(v, edge_pair) > 2.0f * thickness);
+  }
+  /// Whether edge q and cloth edge e make a pair (v = {q's, e's}), and its thickness.
+  TEAR_HD bool edge_edge(index_t q, index_t e, index_t v[4], float& thickness) const {
     const bool cloth_query = q < edges.cloth_count;
     if (cloth_query && (!self || q >= e)) return false;
     v[0] = edges.node(q, 0), v[1] = edges.node(q, 1), v[2] = edges.node(e, 0), v[3] = edges.node(e, 1);
     if (v[0] == v[2] || v[0] == v[3] || v[1] == v[2] || v[1] == v[3]) return false;
+    thickness = margin;
     if (cloth_query) {
       float s, t;
       const Vec3f a = rest(v[0]), b = rest(v[1]), c = rest(v[2]), d = rest(v[3]);
       closest_on_segments(a, b, c, d, s, t);
-      if (norm(lerp(c, d, t) - lerp(a, b, s)) < rest_gap) return false;
+      const float apart = norm(lerp(c, d, t) - lerp(a, b, s));
+      if (apart < rest_gap) return false;
+      thickness = cloth_thickness(apart);
     }
-    return x.w(v[0]) + x.w(v[1]) + x.w(v[2]) + x.w(v[3]) > 0.0f;
+    return x.w(v[0]) + x.w(v[1]) + x.w(v[2]) + x.w(v[3]) > 0.0f && may_come_near(v, true, thickness);
   }
 
-  /// Query i against entry j: the pair, if it is one.
+  /// Query i against entry j: the pair, if it is one. An entry under a cell's key is taken only in
+  /// the cell of the lowest corner of the two boxes' overlap, so a pair met in several cells is
+  /// taken once.
   TEAR_HD bool take(index_t i, const Box& qb, index_t j, const GridEntries& entries, CollisionPair& pair) const {
     const bool of_edges = i >= faces.count;
     const index_t item = entries.items[j];
-    if (!qb.overlaps(entry_box(item, of_edges))) return false;
+    const Box eb = entry_box(item, of_edges);
+    if (!qb.overlaps(eb)) return false;
+    const std::uint64_t key = entries.keys[j];
+    if (key != CollisionGrid::everywhere &&
+        key != grid.cell_key({max_of(qb.lo.x, eb.lo.x), max_of(qb.lo.y, eb.lo.y), max_of(qb.lo.z, eb.lo.z)}))
+      return false;
     pair.edge_edge = of_edges ? 1 : 0;
-    return of_edges ? edge_edge(i - faces.count, item, pair.v) : node_face(i, item, pair.v);
+    return of_edges ? edge_edge(i - faces.count, item, pair.v, pair.thickness)
+                    : node_face(i, item, pair.v, pair.thickness);
   }
 
   TEAR_HD void operator()(index_t i) const {
@@ -524,11 +531,9 @@ struct find_pairs {
       if (offset) pairs[out++] = pair;
       ++found;
     };
-    // An entry's box is no wider than a cell: one that meets the query's starts at most a cell
-    // below it.
+    // An entry is in every cell its box meets: one that meets the query's is in the query's cells.
     std::int32_t lo[3], hi[3];
     grid.cells(qb, lo, hi);
-    for (int a = 0; a < 3; ++a) lo[a] = lo[a] > 0 ? lo[a] - 1 : 0;
     const std::int64_t cells = static_cast<std::int64_t>(hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
     // The entries under `everywhere` come last.
     const index_t everywhere_begin = entries.lower_bound(CollisionGrid::everywhere, entries.count);

@@ -179,7 +179,7 @@ class CollisionJob {
       total += v.capacity() * sizeof(typename std::decay_t<decltype(v)>::value_type);
     };
     add(body_faces_), add(body_edges_), add(body_x0_), add(body_x1_), add(x0_), add(solved_), add(colliders_);
-    add(pair_count_), add(vertex_keys_), add(edge_keys_), add(vertex_items_), add(edge_items_), add(pairs_);
+    add(pair_count_), add(entry_count_), add(vertex_keys_), add(edge_keys_), add(vertex_items_), add(edge_items_), add(pairs_);
     add(tally_), add(slot_offset_), add(slots_), add(moves_), add(held_);
     return total;
   }
@@ -217,24 +217,39 @@ class CollisionJob {
     }
   }
 
-  /// Enters `count` items (vertices, or cloth edges) in the grid: `keys`/`items` sorted by cell.
+  /// Runs `f` over [0, n) counting what each index will write (into `counts`), scans the counts
+  /// into offsets and points `f` at them for its second run, which writes; returns the total.
+  template <class F>
+  index_t count_then_offsets(F& f, index_t n, vec<index_t>& counts) {
+    resize_for_overwrite(counts, static_cast<std::size_t>(n) + 1);
+    f.count = raw<index_t>(counts);
+    f.offset = nullptr;
+    for_each_index<System>(n, f);
+    counts[n] = 0;
+    exclusive_sum<System>(Traits<System>::policy(), raw<index_t>(counts), raw<index_t>(counts), n + 1);
+    f.offset = raw<index_t>(counts);
+    return counts[n];
+  }
+
+  /// Enters `count` items (vertices, or cloth edges) in the grid, each in the cells it meets:
+  /// `keys`/`items` sorted by cell.
   kernels::GridEntries enter(const kernels::EnterItems& base, index_t count, vec<std::uint64_t>& keys,
                              vec<index_t>& items) {
     const auto policy = Traits<System>::policy();
-    resize_for_overwrite(keys, static_cast<std::size_t>(count));
-    resize_for_overwrite(items, static_cast<std::size_t>(count));
     kernels::EnterItems e = base;
+    const index_t total = count_then_offsets(e, count, entry_count_);
+    resize_for_overwrite(keys, static_cast<std::size_t>(total));
+    resize_for_overwrite(items, static_cast<std::size_t>(total));
     e.keys = raw<std::uint64_t>(keys);
     e.items = raw<index_t>(items);
     for_each_index<System>(count, e);
     // Stable: within a cell the items stay in their order.
-    thrust::stable_sort_by_key(policy, keys.begin(), keys.end(), items.begin());
-    return {raw<std::uint64_t>(keys), raw<index_t>(items), count};
+    thrust::stable_sort_by_key(policy, keys.begin(), keys.begin() + total, items.begin());
+    return {raw<std::uint64_t>(keys), raw<index_t>(items), total};
   }
 
   /// The candidate pairs of the vertices' motion now, into `pairs_`; returns how many.
   index_t find_pairs(const DeviceCloth<System>& cloth) {
-    const auto policy = Traits<System>::policy();
     const kernels::CollisionVertices x = vertices(cloth);
     const float thickness = static_cast<float>(options_.collision.thickness);
     const kernels::CollisionFaces faces{raw<index_t>(cloth.face_nodes), raw<index_t>(body_faces_), cloth.face_count(),
@@ -242,7 +257,7 @@ class CollisionJob {
     const kernels::CollisionEdges edges{raw<index_t>(cloth.topo.edge_nodes), raw<index_t>(body_edges_),
                                         cloth.topo.edge_count, cloth.topo.edge_count + body_edge_count_,
                                         cloth.node_count()};
-    kernels::EnterItems enter_vertices{x, edges, grid_, thickness, false, nullptr, nullptr};
+    kernels::EnterItems enter_vertices{x, edges, grid_, thickness, false, nullptr, nullptr, nullptr, nullptr};
     const kernels::GridEntries vertex_entries = enter(enter_vertices, x.vertex_count, vertex_keys_, vertex_items_);
     kernels::EnterItems enter_edges = enter_vertices;
     enter_edges.of_edges = true;
@@ -264,14 +279,8 @@ class CollisionJob {
                              nullptr,
                              nullptr,
                              nullptr};
-    resize_for_overwrite(pair_count_, static_cast<std::size_t>(queries) + 1);
-    find.count = raw<index_t>(pair_count_);
-    for_each_index<System>(queries, find);
-    pair_count_[queries] = 0;
-    exclusive_sum<System>(policy, raw<index_t>(pair_count_), raw<index_t>(pair_count_), queries + 1);
-    const index_t total = pair_count_[queries];
+    const index_t total = count_then_offsets(find, queries, pair_count_);
     resize_for_overwrite(pairs_, static_cast<std::size_t>(total));
-    find.offset = raw<index_t>(pair_count_);
     find.pairs = raw<kernels::CollisionPair>(pairs_);
     for_each_index<System>(queries, find);
     return total;
@@ -286,7 +295,7 @@ class CollisionJob {
   kernels::CollisionGrid grid_{};
   vec<float> x0_, solved_;
   vec<kernels::PdCollider> colliders_;  // the plane and sphere colliders at the substep's end
-  vec<index_t> pair_count_;
+  vec<index_t> pair_count_, entry_count_;
   vec<std::uint64_t> vertex_keys_, edge_keys_;
   vec<index_t> vertex_items_, edge_items_;
   vec<kernels::CollisionPair> pairs_;
