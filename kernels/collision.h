@@ -4,17 +4,18 @@
 // The vertices are the cloth's nodes [0, node_count) followed by the mesh colliders' vertices
 // (bodies), each with its position at the substep's start (x0) and end (x1). Pairs are node–face
 // (a vertex and a triangle) and edge–edge. A pair is in contact when, at the end, the vertex (or
-// edge) is within the pair's thickness of the triangle (or other edge) on the side it was on at the start,
-// or when it crossed it during the substep (found by the time the four points are coplanar: the
-// motion, not only the end positions). Each contact moves its movable vertices (free cloth nodes:
-// pinned nodes and bodies do not move) apart along the triangle's (or the edges') normal, weighted
-// as a position constraint, with Coulomb friction on their relative motion; each vertex averages
-// the moves of its contacts, summed in the order of the pairs (a gather: no atomics).
+// edge) is within the pair's thickness of the triangle (or other edge) on the side it was on at
+// the start, or when it crossed it during the substep (found by the time the four points are
+// coplanar: the motion, not only the end positions). Each contact moves its movable vertices
+// (free cloth nodes: pinned nodes and bodies do not move) apart along the triangle's (or the
+// edges') normal, weighted as a position constraint, with Coulomb friction on their relative
+// motion; each vertex averages the moves of its contacts, summed in the order of the pairs (a
+// gather: no atomics).
 //
-// A pair's thickness is `thickness`, except for two parts of the cloth that lie within twice
-// that of each other in the rest shape (neighbours in the fabric): theirs is half their distance
-// there, so that the fabric's own wrinkles are not taken for contacts it can never leave. Two
-// sides of a tear (closer than `rest_gap` there) take no part.
+// A pair's thickness is `thickness`, except for two parts of the cloth that lie within 2.5 times
+// that of each other in the rest shape (neighbours in the fabric): theirs is 0.4 times their
+// distance there, so that the fabric's own wrinkles are not taken for contacts it can never
+// leave. Two sides of a tear (closer than `rest_gap` there) take no part.
 //
 // Broad phase: vertices and cloth edges, boxed over the substep's motion, are entered into a
 // uniform grid, each in every cell its box meets (sorted by cell); each triangle and edge looks up
