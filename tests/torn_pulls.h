@@ -53,6 +53,8 @@ struct Torn {
   index_t pieces = 0;
   double smallest_piece = 0;              ///< fraction of the rest area, over every frame
   double worst_inverted = 0;              ///< fraction of faces folded over, over every frame
+  index_t last_inverted = 0;              ///< faces folded over in the last frame
+  std::vector<std::array<double, 2>> last_inverted_at;  ///< their rest centroids
   double smallest_angle = 180;            ///< degrees, rest shape, over every frame
   double shortest_edge = 1e9;             ///< metres, rest shape, over every frame
   index_t events = 0;                     ///< tear events
@@ -90,7 +92,12 @@ inline Torn run(const tear::Mesh& sheet, const std::string& script_text, int fra
         return (p[3 * fn[1]] - p[3 * fn[0]]) * (p[3 * fn[2] + 1] - p[3 * fn[0] + 1]) -
                (p[3 * fn[1] + 1] - p[3 * fn[0] + 1]) * (p[3 * fn[2]] - p[3 * fn[0]]);
       };
-      if (nz(m.node_pos) * nz(rest) < 0) ++inverted;
+      if (nz(m.node_pos) * nz(rest) < 0) {
+        ++inverted;
+        if (frame.frame == frames)
+          t.last_inverted_at.push_back({(rest[3 * fn[0]] + rest[3 * fn[1]] + rest[3 * fn[2]]) / 3.0,
+                                        (rest[3 * fn[0] + 1] + rest[3 * fn[1] + 1] + rest[3 * fn[2] + 1]) / 3.0});
+      }
       for (int k = 0; k < 3; ++k) {
         double a[3], b[3];
         for (int d = 0; d < 3; ++d) {
@@ -106,6 +113,7 @@ inline Torn run(const tear::Mesh& sheet, const std::string& script_text, int fra
     }
     for (double a : piece_area) t.smallest_piece = std::min(t.smallest_piece, a / area);
     t.worst_inverted = std::max(t.worst_inverted, double(inverted) / m.face_count());
+    t.last_inverted = inverted;
   });
   t.mesh = cloth.mesh();
   t.rest = cloth.node_rest();

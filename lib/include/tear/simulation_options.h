@@ -174,6 +174,10 @@ struct TearingOptions {
   std::uint32_t seed = 0;
   /// A painted strength: the limits times the map's value at the face (null: none).
   std::shared_ptr<const StrengthMap> strength_map;
+  /// Strain rate limit, in [0, 1]: before each substep the velocities are limited so that no edge
+  /// shortens or lengthens over the substep by more than this fraction of its length (a tear's
+  /// recoil spread over substeps; kernels/strain_rate.h). 0: off.
+  double strain_rate_limit = 0.1;
 
   bool enabled() const { return stretch > 0; }
   double start_stretch() const { return start > 0 ? start : stretch; }

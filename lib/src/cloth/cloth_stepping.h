@@ -13,6 +13,7 @@
 #include <type_traits>
 #include <vector>
 
+#include <thrust/for_each.h>
 #include <thrust/functional.h>
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/iterator/transform_iterator.h>
@@ -25,6 +26,7 @@
 #include "cloth/crack_growth.h"
 #include "cloth_data/device_cloth.h"
 #include "node_identity.h"
+#include "strain_rate.h"
 #include "sim/pd_solver_device.h"
 #include "tear/cloth.h"
 #include "tear/error.h"
@@ -91,6 +93,8 @@ class StepJob {
       refresh_solver(cloth);
       if (m.rebuilt) m.rebuild_end.record();
       m.substep_start.record();
+      limit_strain_rate(cloth);
+      m.limit_end.record();
       if (collides_) collision_.begin(cloth);
       solver_->step_substep_in_place(raw<float>(cloth.node_pos), raw<float>(cloth.node_vel), frame, s);
       m.substep_end.record();
@@ -110,20 +114,42 @@ class StepJob {
     for (int s = 0; s < done; ++s) {
       const StepMarks& m = marks_[s];
       if (m.rebuilt) torn.rebuild_ms += QueueMark::elapsed_ms(m.rebuild_start, m.rebuild_end);
-      torn.solver_ms += QueueMark::elapsed_ms(m.substep_start, m.substep_end);
+      torn.solver_ms += QueueMark::elapsed_ms(m.limit_end, m.substep_end);
       torn.collision_ms += QueueMark::elapsed_ms(m.substep_end, m.collision_end);
-      torn.check_ms += QueueMark::elapsed_ms(m.collision_end, m.check_end);
+      // The strain rate limit is tearing's: counted with its check.
+      torn.check_ms +=
+          QueueMark::elapsed_ms(m.substep_start, m.limit_end) + QueueMark::elapsed_ms(m.collision_end, m.check_end);
       if (m.applied) torn.apply_ms += QueueMark::elapsed_ms(m.check_end, m.apply_end);
     }
     return done == substeps;
   }
 
  private:
+  /// The tearing's strain rate limit on the velocities before a substep (kernels/strain_rate.h),
+  /// in `strain_rate_passes` passes through a scratch copy (an even count: they end in place). On
+  /// for a tearing cloth unless its `strain_rate_limit` is 0.
+  void limit_strain_rate(DeviceCloth<System>& cloth) {
+    const double limit = options_.tearing.enabled() ? options_.tearing.strain_rate_limit : 0.0;
+    if (!(limit > 0) || cloth.node_count() == 0) return;
+    resize_for_overwrite(scratch_vel_, cloth.node_vel.size());
+    const thrust::counting_iterator<index_t> zero(0);
+    float* from = raw<float>(cloth.node_vel);
+    float* to = raw<float>(scratch_vel_);
+    for (int pass = 0; pass < kernels::strain_rate_passes; ++pass) {
+      thrust::for_each(Traits<System>::policy(), zero, zero + cloth.node_count(),
+                       kernels::limit_strain_rate{raw<index_t>(cloth.face_nodes), raw<index_t>(cloth.topo.node_face_offset),
+                                                  raw<index_t>(cloth.topo.node_faces), raw<float>(cloth.node_pos),
+                                                  raw<std::uint8_t>(cloth.node_pinned), from, to,
+                                                  static_cast<float>(limit / options_.step_seconds())});
+      std::swap(from, to);
+    }
+  }
+
   using QueueMark = typename Traits<System>::QueueMark;
   /// A torn substep's parts, marked in the backend's queue: the model's rebuild (where the mesh
   /// changed), the substep, the check, the tear's application (where the cloth tore).
   struct StepMarks {
-    QueueMark rebuild_start, rebuild_end, substep_start, substep_end, collision_end, check_end, apply_end;
+    QueueMark rebuild_start, rebuild_end, substep_start, limit_end, substep_end, collision_end, check_end, apply_end;
     bool rebuilt = false, applied = false;
   };
 
@@ -364,6 +390,7 @@ class StepJob {
   vector<System, std::int64_t> cell_key_;
   vector<System, index_t> cell_face_;
   vector<System, kernels::DiscSums> sums_;
+  vector<System, float> scratch_vel_;  // the strain rate limit's other buffer
   vector<System, kernels::DiscSums> face_terms_;  // every face's disc term, this check's (GPU)
   vector<System, double> face_centroids_;         // every face's rest centroid, this view's (GPU)
   bool centroids_ready_ = false;

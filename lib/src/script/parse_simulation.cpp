@@ -290,7 +290,7 @@ std::shared_ptr<const StrengthMap> parse_strength_map(const Reader& reader, cons
 TearingOptions parse_tearing(const Reader& reader, const json& value, const std::string& path) {
   reader.expect_object(value, path,
                        {"stretch", "start", "radius", "step", "min_piece", "max_faces_per_step", "max_faces", "weave",
-                        "seam_strength", "variation", "seed", "strength_map"});
+                        "seam_strength", "variation", "seed", "strength_map", "strain_rate_limit"});
   TearingOptions tearing;
   const std::string stretch_range = "a number in (1, " + shown(limits::max_tear_stretch) + "] (stretch ratio)";
   tearing.stretch = reader.number(reader.member(value, path, "stretch", stretch_range), child_path(path, "stretch"),
@@ -331,6 +331,8 @@ TearingOptions parse_tearing(const Reader& reader, const json& value, const std:
         reader.integer(value["seed"], child_path(path, "seed"), 0, 4294967295LL, "an integer in 0..4294967295"));
   if (value.contains("strength_map"))
     tearing.strength_map = parse_strength_map(reader, value["strength_map"], child_path(path, "strength_map"));
+  tearing.strain_rate_limit = optional_number(reader, value, path, "strain_rate_limit", 0, 1,
+                                              "fraction of an edge's length per substep", tearing.strain_rate_limit, false);
   return tearing;
 }
 
