@@ -1,20 +1,27 @@
-// tear kernels: strain rate limiting (Bridson, Fedkiw and Anderson 2002, "Robust treatment of
-// collisions, contact and friction for cloth animation", section 7.2), run on the velocities before
-// a substep: no edge may shorten or lengthen, from its nodes' velocities over the substep, by more
-// than `limit` times its length.
+// tear kernels: a strain rate limit on what a substep did (after the strain rate limiting of
+// Bridson, Fedkiw and Anderson 2002, "Robust treatment of collisions, contact and friction for
+// cloth animation", section 7.2, applied to the faces' altitudes instead of their edges): no face's
+// altitude, a corner's distance from the line of the opposite edge, may shrink over the substep by
+// more than `limit` times itself.
 //
 // A tear releases stretched cloth at once: its flanks spring back, and where a node's step is
-// longer than its faces are wide, the implicit step lands on the far side of the face across from
-// it. Springs hold a face folded over as well as flat (its edges keep their lengths), so the fold
-// stays. Limiting the rate spreads the recoil over several substeps without touching slower motion.
+// longer than its faces are wide, the implicit step lands it on the far side of the face across
+// from it. Springs hold a face folded over as well as flat (its edges keep their lengths), and a
+// thin face turns over with hardly any change in its edges' lengths, so a limit on the edges alone
+// does not stop it; an altitude that shrinks by at most a tenth per substep never reaches zero.
+// Stretching, bending and any rigid motion however fast are left alone, as is a face that flattens
+// slowly.
 //
-// Each pass is a Jacobi sweep over the nodes: a node looks at its edges (through its faces, so an
-// inner edge twice and a border edge once, the same at both ends), takes for each edge whose
-// relative speed along it passes the bound its share of the excess (half; all of it against a pinned
-// node), and moves by the mean of those shares along the edges. Sums run in the node's face order:
-// the same bits on every run. Example: two free nodes 1 cm apart closing at 2 m/s, h = 1/96 s,
-// limit 0.1: the bound is 0.1 × 0.01 × 96 = 0.096 m/s; each node gives up half of the 1.904 m/s
-// excess, and they close at 0.096 m/s.
+// The limit works on the nodes' mean velocities over the substep, v = (x - x0) / h, with the
+// geometry of the substep's start x0: `strain_rate_passes` Jacobi passes over the nodes, each node
+// summing over its faces (in its face order: the same bits every run, no atomics) its share of each
+// altitude's excess, mass-free (a pinned node takes none), and moving by the mean of those shares;
+// then x = x0 + h v and the node's velocity changes by as much as v did.
+//
+// Example: the face (0, 0, 0) (0.02, 0, 0) (0.01, 0.001, 0), its apex falling at 0.5 m/s towards the
+// opposite edge over a substep of h = 1/96 s, limit 0.1: the altitude's bound is 0.1 × 0.001 × 96 =
+// 0.0096 m/s; the apex takes 2/3 of the 0.4904 m/s excess and the edge's ends 1/6 each the other
+// way, and the altitude shrinks by a tenth instead of passing through zero.
 #pragma once
 
 #include <cstdint>
@@ -24,46 +31,86 @@
 
 namespace tear::kernels {
 
-/// Passes of `limit_strain_rate` per substep (an even count, so the velocities end where they began).
+/// Passes of `limit_strain_rate` per substep.
 inline constexpr int strain_rate_passes = 4;
+static_assert(strain_rate_passes >= 2, "the first pass reads the positions the last one writes");
 
-/// One pass at node n: `vel_out` = `vel_in` moved by the mean of its limited edges' shares.
+/// One pass at node n. The first reads the mean velocities from the positions (`vel_in` null); the
+/// last (`finish`) writes positions and velocities instead of `vel_out`.
 struct limit_strain_rate {
   const index_t* face_nodes;
   const index_t* node_face_offset;
   const index_t* node_faces;
-  const float* node_pos;
+  const float* node_start;  // x0, the substep's start: the geometry every pass measures
   const std::uint8_t* node_pinned;
-  const float* vel_in;
-  float* vel_out;
-  float rate;  // limit / h: the bound on an edge's relative speed per metre of its length, 1/s
+  const float* vel_in;  // null: (x - x0) / h from `node_pos`
+  float* vel_out;       // unless `finish`
+  float* node_pos;      // read on the first pass, written on the last
+  float* node_vel;      // written on the last pass
+  float h, inv_h;
+  float rate;  // limit / h: the bound on an altitude's shrinking per metre of it, 1/s
+  bool finish;
+
+  TEAR_HD Vec3f velocity(index_t m) const {
+    return vel_in ? load3<float>(vel_in, m) : inv_h * (load3<float>(node_pos, m) - load3<float>(node_start, m));
+  }
+
   TEAR_HD void operator()(index_t n) const {
-    const Vec3f v = load3<float>(vel_in, n);
-    if (node_pinned[n]) {
-      store3(vel_out, n, v);
-      return;
-    }
-    const Vec3f x = load3<float>(node_pos, n);
+    const Vec3f v = velocity(n);
     Vec3f sum{0, 0, 0};
     int count = 0;
-    for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) {
-      const index_t f = node_faces[i];
-      for (int k = 0; k < 3; ++k) {
-        const index_t m = face_nodes[3 * f + k];
-        if (m == n) continue;
-        const Vec3f d = load3<float>(node_pos, m) - x;
-        const float l = norm(d);
-        if (!(l > 0.0f)) continue;
-        const Vec3f u = (1.0f / l) * d;
-        const float closing = dot(load3<float>(vel_in, m) - v, u);  // < 0: the edge shortens
-        const float bound = rate * l;
-        const float excess = closing > bound ? closing - bound : closing < -bound ? closing + bound : 0.0f;
-        if (excess == 0.0f) continue;
-        sum = sum + ((node_pinned[m] ? 1.0f : 0.5f) * excess) * u;
-        ++count;
-      }
+    if (!node_pinned[n])
+      for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) face_shares(node_faces[i], n, v, sum, count);
+    const Vec3f limited = count > 0 ? v + (1.0f / static_cast<float>(count)) * sum : v;
+    if (!finish) {
+      store3(vel_out, n, limited);
+      return;
     }
-    store3(vel_out, n, count > 0 ? v + (1.0f / static_cast<float>(count)) * sum : v);
+    // x = x0 + h v, and the velocity changed by as much as v was: a node left alone keeps its bits.
+    const Vec3f before = inv_h * (load3<float>(node_pos, n) - load3<float>(node_start, n));
+    if (limited.x == before.x && limited.y == before.y && limited.z == before.z) return;
+    store3(node_pos, n, load3<float>(node_start, n) + h * limited);
+    store3(node_vel, n, load3<float>(node_vel, n) + (limited - before));
+  }
+
+  /// Node n's shares of face f's three altitudes over their bounds. The altitude of corner a over
+  /// the line of b-c, at the foot b + t (c - b), changes at g · u along the unit normal from the line
+  /// to a, with g = (1, -(1 - t), -t) for (a, b, c); the correction moves each node along g_k λ,
+  /// λ sharing the excess by the free nodes' g_k².
+  TEAR_HD void face_shares(index_t f, index_t n, const Vec3f& v, Vec3f& sum, int& count) const {
+    Vec3f x[3], u[3];
+    float w[3];
+    int me = 0;
+    for (int k = 0; k < 3; ++k) {
+      const index_t c = face_nodes[3 * f + k];
+      x[k] = load3<float>(node_start, c);
+      u[k] = c == n ? v : velocity(c);
+      w[k] = node_pinned[c] ? 0.0f : 1.0f;
+      if (c == n) me = k;
+    }
+    for (int a = 0; a < 3; ++a) {
+      const int b = (a + 1) % 3, c = (a + 2) % 3;
+      const Vec3f base = x[c] - x[b];
+      const float bb = dot(base, base);
+      if (!(bb > 0.0f)) continue;
+      float t = dot(x[a] - x[b], base) / bb;
+      t = t < 0.0f ? 0.0f : t > 1.0f ? 1.0f : t;
+      const Vec3f up = x[a] - (x[b] + t * base);
+      const float height = norm(up);
+      if (!(height > 0.0f)) continue;
+      const Vec3f normal = (1.0f / height) * up;
+      float g[3];
+      g[a] = 1.0f;
+      g[b] = -(1.0f - t);
+      g[c] = -t;
+      const float growing = g[0] * dot(u[0], normal) + g[1] * dot(u[1], normal) + g[2] * dot(u[2], normal);
+      const float bound = rate * height;
+      if (!(growing < -bound)) continue;
+      const float weight = w[0] * g[0] * g[0] + w[1] * g[1] * g[1] + w[2] * g[2] * g[2];
+      if (!(weight > 0.0f)) continue;
+      sum = sum + (w[me] * g[me] * ((-bound - growing) / weight)) * normal;
+      ++count;
+    }
   }
 };
 

@@ -1,6 +1,6 @@
-// The strain rate limit on the velocities before a substep (kernels/strain_rate.h,
-// docs/simulation.md, *The recoil*): one edge's worked example, a pinned end, rigid motion left
-// alone, slow motion left bit for bit, and notched pulls whose torn flanks must not stay folded over.
+// The strain rate limit on what a substep did (kernels/strain_rate.h, docs/simulation.md, *The
+// recoil*): a thin face kept from turning over (free and against a pinned edge), rigid and slow
+// motion left bit for bit, and notched pulls whose torn flanks must not stay folded over.
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -15,65 +15,82 @@ using namespace tear::test::pulls;
 
 namespace {
 
-/// One triangle: nodes 0 and 1 a centimetre apart on x, node 2 ten metres up (its edges barely
-/// change length whatever 0 and 1 do along x).
-struct Triangle {
-  std::vector<index_t> face_nodes{0, 1, 2}, offsets{0, 1, 2, 3}, faces{0, 0, 0};
-  std::vector<float> pos{0, 0, 0, 0.01f, 0, 0, 0.005f, 10, 0};
-  std::vector<std::uint8_t> pinned{0, 0, 0};
-  /// `passes` passes of the limit at `limit` with h = 1/96 s; returns the velocities.
-  std::vector<float> limit(std::vector<float> vel, double limit, int passes = 1) const {
-    std::vector<float> out(vel.size());
-    for (int p = 0; p < passes; ++p) {
-      const tear::kernels::limit_strain_rate pass{face_nodes.data(), offsets.data(), faces.data(), pos.data(),
-                                                  pinned.data(), vel.data(), out.data(), static_cast<float>(limit * 96)};
-      for (index_t n = 0; n < 3; ++n) pass(n);
-      vel.swap(out);
-    }
-    return vel;
+/// A mesh's node→face lists, as the topology holds them (faces in order at each node).
+struct NodeFaces {
+  std::vector<index_t> offsets, faces;
+  explicit NodeFaces(const std::vector<index_t>& face_nodes, index_t nodes) : offsets(nodes + 1, 0) {
+    for (const index_t n : face_nodes) ++offsets[n + 1];
+    for (index_t n = 0; n < nodes; ++n) offsets[n + 1] += offsets[n];
+    faces.resize(offsets[nodes]);
+    std::vector<index_t> cursor(offsets.begin(), offsets.end() - 1);
+    for (std::size_t c = 0; c < face_nodes.size(); ++c) faces[cursor[face_nodes[c]]++] = static_cast<index_t>(c / 3);
   }
 };
 
-}  // namespace
-
-TEST_CASE("strain rate: an edge closing too fast closes at the bound, each end giving up half", "[tearing]") {
-  Triangle t;
-  // Closing at 2 m/s; the bound is 0.1 x 0.01 m x 96 /s = 0.096 m/s.
-  const std::vector<float> v = t.limit({1, 0, 0, -1, 0, 0, 0, 0, 0}, 0.1);
-  CHECK(v[0] == Approx(0.048).epsilon(1e-4));
-  CHECK(v[3] == Approx(-0.048).epsilon(1e-4));
-  CHECK(v[1] == 0.0f);
-  CHECK(v[4] == 0.0f);
-  CHECK(v[6] == 0.0f);  // node 2's edges change length by far less than their bound
-  // Against a pinned end, the free node gives up the whole excess.
-  t.pinned[1] = 1;
-  const std::vector<float> w = t.limit({1, 0, 0, 0, 0, 0, 0, 0, 0}, 0.1);
-  CHECK(w[0] == Approx(0.096).epsilon(1e-4));
-  CHECK(w[3] == 0.0f);
+/// A substep of h = 1/96 s that moved `start` by `velocity` (x = x0 + h v, the node velocities v
+/// as well), limited at `limit` as the stepping does: the positions and velocities after.
+struct Limited {
+  std::vector<float> pos, vel;
+};
+Limited limit_substep(const std::vector<index_t>& face_nodes, const std::vector<float>& start,
+                      const std::vector<float>& velocity, const std::vector<std::uint8_t>& pinned, float limit) {
+  const index_t nodes = static_cast<index_t>(start.size() / 3);
+  const NodeFaces nf(face_nodes, nodes);
+  const float h = 1.0f / 96;
+  Limited out{start, velocity};
+  for (std::size_t i = 0; i < start.size(); ++i) out.pos[i] = start[i] + h * velocity[i];
+  std::vector<float> rate[2] = {std::vector<float>(start.size()), std::vector<float>(start.size())};
+  tear::kernels::limit_strain_rate pass{face_nodes.data(), nf.offsets.data(), nf.faces.data(), start.data(),
+                                        pinned.data(), nullptr, nullptr, out.pos.data(), out.vel.data(), h, 1 / h,
+                                        limit / h, false};
+  for (int p = 0; p < tear::kernels::strain_rate_passes; ++p) {
+    pass.vel_in = p == 0 ? nullptr : rate[(p + 1) % 2].data();
+    pass.vel_out = rate[p % 2].data();
+    pass.finish = p + 1 == tear::kernels::strain_rate_passes;
+    // Each pass reads only what the one before wrote (the last writes positions the first read).
+    for (index_t n = 0; n < nodes; ++n) pass(n);
+  }
+  return out;
 }
 
-TEST_CASE("strain rate: motion under the bound, and rigid motion however fast, are left bit for bit",
+/// The mean velocity a substep ended with, node n's component d.
+float mean_velocity(const Limited& l, const std::vector<float>& start, index_t n, int d) {
+  return (l.pos[3 * n + d] - start[3 * n + d]) * 96;
+}
+
+}  // namespace
+
+TEST_CASE("strain rate: a thin face's altitude shrinks by at most the limit, so it does not turn over",
           "[tearing]") {
+  // Corner 2 a millimetre above the 2 cm edge 0-1, moving down at 0.5 m/s: in one substep of
+  // 1/96 s it would pass 4 mm under the edge (the face turned over) with the edges' lengths barely
+  // changed. Limited, the altitude shrinks by a tenth.
+  const std::vector<index_t> face{0, 1, 2};
+  const std::vector<float> start{0, 0, 0, 0.02f, 0, 0, 0.01f, 0.001f, 0};
+  const Limited l = limit_substep(face, start, {0, 0, 0, 0, 0, 0, 0, -0.5f, 0}, {0, 0, 0}, 0.1f);
+  const auto altitude = [&](const std::vector<float>& x) {
+    // Signed: corner 2's y over the line through 0 and 1 (in the xy plane).
+    const float ex = x[3] - x[0], ey = x[4] - x[1];
+    return ((x[6] - x[0]) * -ey + (x[7] - x[1]) * ex) / std::hypot(ex, ey);
+  };
+  CHECK(altitude(l.pos) > 0);
+  CHECK(altitude(l.pos) >= 0.9f * 0.001f * 0.98f);  // the bound, less what four passes leave
+  CHECK(altitude(l.pos) <= 0.001f);
+  // The velocities changed by as much as the mean velocities did: the apex falls slower.
+  CHECK(l.vel[7] == Approx(mean_velocity(l, start, 2, 1)).margin(1e-4));
+  CHECK(l.vel[7] > -0.5f);
+  // Against a pinned edge, the apex alone gives way: the edge stays where it was.
+  const Limited p = limit_substep(face, start, {0, 0, 0, 0, 0, 0, 0, -0.5f, 0}, {1, 1, 0}, 0.1f);
+  CHECK(p.pos[1] == 0.0f);
+  CHECK(p.pos[4] == 0.0f);
+  CHECK(altitude(p.pos) >= 0.9f * 0.001f * 0.98f);
+}
+
+TEST_CASE("strain rate: slow motion, and rigid motion however fast, are left bit for bit", "[tearing]") {
   const tear::Mesh sheet_mesh = sheet(800, true);
   const index_t nodes = sheet_mesh.node_count();
-  std::vector<index_t> offsets(nodes + 1, 0), faces;
-  for (index_t c = 0; c < 3 * sheet_mesh.face_count(); ++c) ++offsets[sheet_mesh.face_nodes[c] + 1];
-  for (index_t n = 0; n < nodes; ++n) offsets[n + 1] += offsets[n];
-  faces.resize(offsets[nodes]);
-  std::vector<index_t> cursor(offsets.begin(), offsets.end() - 1);
-  for (index_t c = 0; c < 3 * sheet_mesh.face_count(); ++c) faces[cursor[sheet_mesh.face_nodes[c]]++] = c / 3;
   const std::vector<float>& pos = sheet_mesh.node_pos;
   const std::vector<std::uint8_t> pinned(nodes, 0);
-  const auto limited = [&](const std::vector<float>& vel) {
-    std::vector<float> a = vel, b(vel.size());
-    for (int p = 0; p < tear::kernels::strain_rate_passes; ++p) {
-      const tear::kernels::limit_strain_rate pass{sheet_mesh.face_nodes.data(), offsets.data(), faces.data(),
-                                                  pos.data(), pinned.data(), a.data(), b.data(), 0.1f * 96};
-      for (index_t n = 0; n < nodes; ++n) pass(n);
-      a.swap(b);
-    }
-    return a;
-  };
   // A spin of 20 rad/s about z through (0.5, 0.5) and a flight at 30 m/s: no edge changes length.
   std::vector<float> rigid(3 * nodes), slow(3 * nodes);
   for (index_t n = 0; n < nodes; ++n) {
@@ -81,16 +98,19 @@ TEST_CASE("strain rate: motion under the bound, and rigid motion however fast, a
     rigid[3 * n] = -20 * y + 30;
     rigid[3 * n + 1] = 20 * x;
     rigid[3 * n + 2] = 30;
-    // A stretch along x at 1 /s: each edge's rate is at most its length per second, under 9.6 /s.
+    // A stretch along x at 1 /s: each length changes by at most 1 % of itself over the substep.
     slow[3 * n] = x;
     slow[3 * n + 1] = 0;
     slow[3 * n + 2] = 0;
   }
-  const std::vector<float> r = limited(rigid);
+  const Limited r = limit_substep(sheet_mesh.face_nodes, pos, rigid, pinned, 0.1f);
   double largest = 0;
-  for (index_t i = 0; i < 3 * nodes; ++i) largest = std::max(largest, double(std::abs(r[i] - rigid[i])));
-  CHECK(largest < 1e-4);  // float rounding of the edges' directions only
-  CHECK(limited(slow) == slow);
+  for (index_t n = 0; n < nodes; ++n)
+    for (int d = 0; d < 3; ++d) largest = std::max(largest, double(std::abs(mean_velocity(r, pos, n, d) - rigid[3 * n + d])));
+  CHECK(largest < 0.01);  // float rounding of x0 + h v only: the limit took nothing
+  CHECK(r.vel == rigid);  // and left the velocities as they were
+  const Limited s = limit_substep(sheet_mesh.face_nodes, pos, slow, pinned, 0.1f);
+  CHECK(s.vel == slow);
 }
 
 TEST_CASE("strain rate: the flanks of notched pulls do not stay folded over", "[tearing][quality]") {

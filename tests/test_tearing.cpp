@@ -308,10 +308,10 @@ TEST_CASE("tearing: every error names the file and the key path", "[tearing]") {
        "simulation.tearing.toughness: unknown key (expected stretch, start, radius, step, min_piece, "
        "max_faces_per_step, max_faces, weave, seam_strength, variation, seed, strength_map or strain_rate_limit)"},
       {R"({"tearing": {"stretch": 2, "strain_rate_limit": -0.1}})",
-       "simulation.tearing.strain_rate_limit: expected a number in [0, 1] (fraction of an edge's length per substep), "
+       "simulation.tearing.strain_rate_limit: expected a number in [0, 1] (fraction of a face's altitude per substep), "
        "got -0.1"},
       {R"({"tearing": {"stretch": 2, "strain_rate_limit": 1.5}})",
-       "simulation.tearing.strain_rate_limit: expected a number in [0, 1] (fraction of an edge's length per substep), "
+       "simulation.tearing.strain_rate_limit: expected a number in [0, 1] (fraction of a face's altitude per substep), "
        "got 1.5"},
       {R"({"tearing": {"stretch": 2, "max_faces": 0}})",
        "simulation.tearing.max_faces: expected an integer in 1..715827882 (faces the cloth may tear to), got 0"},

@@ -174,9 +174,9 @@ struct TearingOptions {
   std::uint32_t seed = 0;
   /// A painted strength: the limits times the map's value at the face (null: none).
   std::shared_ptr<const StrengthMap> strength_map;
-  /// Strain rate limit, in [0, 1]: before each substep the velocities are limited so that no edge
-  /// shortens or lengthens over the substep by more than this fraction of its length (a tear's
-  /// recoil spread over substeps; kernels/strain_rate.h). 0: off.
+  /// Strain rate limit, in [0, 1]: no face's altitude may shrink over a substep by more than this
+  /// fraction of itself (a tear's recoil spread over substeps instead of turning faces over;
+  /// kernels/strain_rate.h). 0: off; not applied while the collision pass runs.
   double strain_rate_limit = 0.1;
 
   bool enabled() const { return stretch > 0; }

@@ -13,6 +13,7 @@
 #include <type_traits>
 #include <vector>
 
+#include <thrust/copy.h>
 #include <thrust/for_each.h>
 #include <thrust/functional.h>
 #include <thrust/iterator/counting_iterator.h>
@@ -93,11 +94,13 @@ class StepJob {
       refresh_solver(cloth);
       if (m.rebuilt) m.rebuild_end.record();
       m.substep_start.record();
-      limit_strain_rate(cloth);
-      m.limit_end.record();
+      keep_start(cloth);
+      m.start_kept.record();
       if (collides_) collision_.begin(cloth);
       solver_->step_substep_in_place(raw<float>(cloth.node_pos), raw<float>(cloth.node_vel), frame, s);
       m.substep_end.record();
+      limit_strain_rate(cloth);
+      m.limit_end.record();
       if (collides_) collision_.resolve(cloth, frame, s);
       m.collision_end.record();
       const index_t faces_before = cloth.face_count();
@@ -114,34 +117,56 @@ class StepJob {
     for (int s = 0; s < done; ++s) {
       const StepMarks& m = marks_[s];
       if (m.rebuilt) torn.rebuild_ms += QueueMark::elapsed_ms(m.rebuild_start, m.rebuild_end);
-      torn.solver_ms += QueueMark::elapsed_ms(m.limit_end, m.substep_end);
-      torn.collision_ms += QueueMark::elapsed_ms(m.substep_end, m.collision_end);
+      torn.solver_ms += QueueMark::elapsed_ms(m.start_kept, m.substep_end);
+      torn.collision_ms += QueueMark::elapsed_ms(m.limit_end, m.collision_end);
       // The strain rate limit is tearing's: counted with its check.
-      torn.check_ms +=
-          QueueMark::elapsed_ms(m.substep_start, m.limit_end) + QueueMark::elapsed_ms(m.collision_end, m.check_end);
+      torn.check_ms += QueueMark::elapsed_ms(m.substep_start, m.start_kept) +
+                       QueueMark::elapsed_ms(m.substep_end, m.limit_end) +
+                       QueueMark::elapsed_ms(m.collision_end, m.check_end);
       if (m.applied) torn.apply_ms += QueueMark::elapsed_ms(m.check_end, m.apply_end);
     }
     return done == substeps;
   }
 
  private:
-  /// The tearing's strain rate limit on the velocities before a substep (kernels/strain_rate.h),
-  /// in `strain_rate_passes` passes through a scratch copy (an even count: they end in place). On
-  /// for a tearing cloth unless its `strain_rate_limit` is 0.
+  /// The tearing's strain rate limit (kernels/strain_rate.h): on for a tearing cloth unless its
+  /// `strain_rate_limit` is 0, or the collision pass runs (its moves, made without the contacts,
+  /// would cross layers the pass keeps apart; the pass keeps faces from passing through each other).
+  bool limits_strain_rate() const {
+    return options_.tearing.enabled() && options_.tearing.strain_rate_limit > 0 && !collides_;
+  }
+  /// The substep's start positions, which the limit measures against.
+  void keep_start(const DeviceCloth<System>& cloth) {
+    if (!limits_strain_rate()) return;
+    resize_for_overwrite(start_pos_, cloth.node_pos.size());
+    thrust::copy(Traits<System>::policy(), cloth.node_pos.begin(), cloth.node_pos.end(), start_pos_.begin());
+  }
+  /// After the solver's substep: what it did limited, in `strain_rate_passes` passes (the first
+  /// reads the positions, the last writes positions and velocities).
   void limit_strain_rate(DeviceCloth<System>& cloth) {
-    const double limit = options_.tearing.enabled() ? options_.tearing.strain_rate_limit : 0.0;
-    if (!(limit > 0) || cloth.node_count() == 0) return;
-    resize_for_overwrite(scratch_vel_, cloth.node_vel.size());
+    if (!limits_strain_rate() || cloth.node_count() == 0) return;
+    const double h = options_.step_seconds();
+    resize_for_overwrite(rate_[0], cloth.node_pos.size());
+    resize_for_overwrite(rate_[1], cloth.node_pos.size());
     const thrust::counting_iterator<index_t> zero(0);
-    float* from = raw<float>(cloth.node_vel);
-    float* to = raw<float>(scratch_vel_);
-    for (int pass = 0; pass < kernels::strain_rate_passes; ++pass) {
-      thrust::for_each(Traits<System>::policy(), zero, zero + cloth.node_count(),
-                       kernels::limit_strain_rate{raw<index_t>(cloth.face_nodes), raw<index_t>(cloth.topo.node_face_offset),
-                                                  raw<index_t>(cloth.topo.node_faces), raw<float>(cloth.node_pos),
-                                                  raw<std::uint8_t>(cloth.node_pinned), from, to,
-                                                  static_cast<float>(limit / options_.step_seconds())});
-      std::swap(from, to);
+    kernels::limit_strain_rate pass{raw<index_t>(cloth.face_nodes),
+                                    raw<index_t>(cloth.topo.node_face_offset),
+                                    raw<index_t>(cloth.topo.node_faces),
+                                    raw<float>(start_pos_),
+                                    raw<std::uint8_t>(cloth.node_pinned),
+                                    nullptr,
+                                    nullptr,
+                                    raw<float>(cloth.node_pos),
+                                    raw<float>(cloth.node_vel),
+                                    static_cast<float>(h),
+                                    static_cast<float>(1 / h),
+                                    static_cast<float>(options_.tearing.strain_rate_limit / h),
+                                    false};
+    for (int p = 0; p < kernels::strain_rate_passes; ++p) {
+      pass.vel_in = p == 0 ? nullptr : raw<float>(rate_[(p + 1) % 2]);
+      pass.vel_out = raw<float>(rate_[p % 2]);
+      pass.finish = p + 1 == kernels::strain_rate_passes;
+      thrust::for_each(Traits<System>::policy(), zero, zero + cloth.node_count(), pass);
     }
   }
 
@@ -149,7 +174,8 @@ class StepJob {
   /// A torn substep's parts, marked in the backend's queue: the model's rebuild (where the mesh
   /// changed), the substep, the check, the tear's application (where the cloth tore).
   struct StepMarks {
-    QueueMark rebuild_start, rebuild_end, substep_start, limit_end, substep_end, collision_end, check_end, apply_end;
+    QueueMark rebuild_start, rebuild_end, substep_start, start_kept, substep_end, limit_end, collision_end, check_end,
+        apply_end;
     bool rebuilt = false, applied = false;
   };
 
@@ -390,7 +416,7 @@ class StepJob {
   vector<System, std::int64_t> cell_key_;
   vector<System, index_t> cell_face_;
   vector<System, kernels::DiscSums> sums_;
-  vector<System, float> scratch_vel_;  // the strain rate limit's other buffer
+  vector<System, float> start_pos_, rate_[2];  // the strain rate limit's start positions and mean velocities
   vector<System, kernels::DiscSums> face_terms_;  // every face's disc term, this check's (GPU)
   vector<System, double> face_centroids_;         // every face's rest centroid, this view's (GPU)
   bool centroids_ready_ = false;

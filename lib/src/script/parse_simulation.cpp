@@ -332,7 +332,7 @@ TearingOptions parse_tearing(const Reader& reader, const json& value, const std:
   if (value.contains("strength_map"))
     tearing.strength_map = parse_strength_map(reader, value["strength_map"], child_path(path, "strength_map"));
   tearing.strain_rate_limit = optional_number(reader, value, path, "strain_rate_limit", 0, 1,
-                                              "fraction of an edge's length per substep", tearing.strain_rate_limit, false);
+                                              "fraction of a face's altitude per substep", tearing.strain_rate_limit, false);
   return tearing;
 }
 
