@@ -9,23 +9,13 @@
 
 #include "catch.h"
 #include "strain_rate.h"
+#include "tear/mesh.h"
+#include "tear/topology.h"
 #include "torn_pulls.h"
 
 using namespace tear::test::pulls;
 
 namespace {
-
-/// A mesh's node→face lists, as the topology holds them (faces in order at each node).
-struct NodeFaces {
-  std::vector<index_t> offsets, faces;
-  explicit NodeFaces(const std::vector<index_t>& face_nodes, index_t nodes) : offsets(nodes + 1, 0) {
-    for (const index_t n : face_nodes) ++offsets[n + 1];
-    for (index_t n = 0; n < nodes; ++n) offsets[n + 1] += offsets[n];
-    faces.resize(offsets[nodes]);
-    std::vector<index_t> cursor(offsets.begin(), offsets.end() - 1);
-    for (std::size_t c = 0; c < face_nodes.size(); ++c) faces[cursor[face_nodes[c]]++] = static_cast<index_t>(c / 3);
-  }
-};
 
 /// A substep of h = 1/96 s that moved `start` by `velocity` (x = x0 + h v, the node velocities v
 /// as well), limited at `limit` as the stepping does: the positions and velocities after.
@@ -35,12 +25,15 @@ struct Limited {
 Limited limit_substep(const std::vector<index_t>& face_nodes, const std::vector<float>& start,
                       const std::vector<float>& velocity, const std::vector<std::uint8_t>& pinned, float limit) {
   const index_t nodes = static_cast<index_t>(start.size() / 3);
-  const NodeFaces nf(face_nodes, nodes);
+  tear::Mesh mesh;
+  mesh.node_pos = start;
+  mesh.face_nodes = face_nodes;
+  const tear::Topology topo = tear::build_topology(mesh, tear::test::test_device());
   const float h = 1.0f / 96;
   Limited out{start, velocity};
   for (std::size_t i = 0; i < start.size(); ++i) out.pos[i] = start[i] + h * velocity[i];
   std::vector<float> rate[2] = {std::vector<float>(start.size()), std::vector<float>(start.size())};
-  tear::kernels::limit_strain_rate pass{face_nodes.data(), nf.offsets.data(), nf.faces.data(), start.data(),
+  tear::kernels::limit_strain_rate pass{face_nodes.data(), topo.node_face_offset.data(), topo.node_faces.data(), start.data(),
                                         pinned.data(), nullptr, nullptr, out.pos.data(), out.vel.data(), h, 1 / h,
                                         limit / h, false};
   for (int p = 0; p < tear::kernels::strain_rate_passes; ++p) {
@@ -136,7 +129,7 @@ TEST_CASE("strain rate: the flanks of notched pulls do not stay folded over", "[
       for (const auto& p : t.boundary) nearest = std::min(nearest, std::hypot(c[0] - p[0], c[1] - p[1]));
       near_crack += nearest < 0.05;
     }
-    INFO(faces << " faces: folded over in the last frame " << t.last_inverted << ", " << near_crack
+    INFO(faces << " faces: folded over in the last frame " << t.last_inverted_at.size() << ", " << near_crack
                 << " of them within 5 cm of the crack");
     CHECK(t.pieces == 2);
     CHECK(near_crack == 0);

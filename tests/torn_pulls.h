@@ -53,8 +53,7 @@ struct Torn {
   index_t pieces = 0;
   double smallest_piece = 0;              ///< fraction of the rest area, over every frame
   double worst_inverted = 0;              ///< fraction of faces folded over, over every frame
-  index_t last_inverted = 0;              ///< faces folded over in the last frame
-  std::vector<std::array<double, 2>> last_inverted_at;  ///< their rest centroids
+  std::vector<std::array<double, 2>> last_inverted_at;  ///< rest centroids of faces folded over in the last frame
   double smallest_angle = 180;            ///< degrees, rest shape, over every frame
   double shortest_edge = 1e9;             ///< metres, rest shape, over every frame
   index_t events = 0;                     ///< tear events
@@ -113,7 +112,6 @@ inline Torn run(const tear::Mesh& sheet, const std::string& script_text, int fra
     }
     for (double a : piece_area) t.smallest_piece = std::min(t.smallest_piece, a / area);
     t.worst_inverted = std::max(t.worst_inverted, double(inverted) / m.face_count());
-    t.last_inverted = inverted;
   });
   t.mesh = cloth.mesh();
   t.rest = cloth.node_rest();
