@@ -50,14 +50,18 @@ struct predict_positions {
   float* node_pred;
   float* node_iter;       // x⁽⁰⁾
   float* node_iter_prev;  // x⁽⁻¹⁾, only read once the acceleration starts
-  TEAR_HD void operator()(index_t n) const {
+  TEAR_HD void operator()(index_t n) const { store(n, predicted(n)); }
+  /// s of node n.
+  TEAR_HD Vec3f predicted(index_t n) const {
     const Vec3f x = load3<float>(node_pos, n);
-    const Vec3f s = node_pinned[n]
-                        ? pinned_position(pin_motion_of(node_pinned, pin_motion, pin_count, n), node_rest, x, n)
-                        : x + h * load3<float>(node_vel, n) + (h * h) * gravity;
-    store3(node_pred, n, s);
-    store3(node_iter, n, s);
-    store3(node_iter_prev, n, s);
+    return node_pinned[n] ? pinned_position(pin_motion_of(node_pinned, pin_motion, pin_count, n), node_rest, x, n)
+                          : x + h * load3<float>(node_vel, n) + (h * h) * gravity;
+  }
+  /// s stored as the prediction and both first iterates of place i.
+  TEAR_HD void store(index_t i, const Vec3f& s) const {
+    store3(node_pred, i, s);
+    store3(node_iter, i, s);
+    store3(node_iter_prev, i, s);
   }
 };
 
@@ -97,12 +101,19 @@ TEAR_HD inline ConstraintTerms constraint_terms(const PdConstraints& constraints
 
 /// Local step of a constraint at the iterate x: f_c = w_c (p_c − A_c x), the constraint's pull
 /// towards its projection p_c (pd_math.h `project_length`): newtons for a spring.
-TEAR_HD inline Vec3f constraint_force(const ConstraintTerms& t, const float* node_iter) {
+/// `position(i)` gives node i's iterate: from memory by default, from a copy in shared memory for
+/// the tiled kernel (sim/pd_launch_tiled.h), whose terms name nodes by their place in that copy.
+template <class Position>
+TEAR_HD inline Vec3f constraint_force_at(const ConstraintTerms& t, const Position& position) {
   Vec3f d{0, 0, 0};
   for (int j = 0; j < pd_constraint_nodes; ++j)
-    if (t.node[j] >= 0) d = d + t.k[j] * load3<float>(node_iter, t.node[j]);
+    if (t.node[j] >= 0) d = d + t.k[j] * position(t.node[j]);
   const Vec3f p = project_length(d, t.rest);
   return t.weight * (p - d);
+}
+
+TEAR_HD inline Vec3f constraint_force(const ConstraintTerms& t, const float* node_iter) {
+  return constraint_force_at(t, [node_iter](index_t i) { return load3<float>(node_iter, i); });
 }
 
 TEAR_HD inline Vec3f compute_constraint_force(const PdConstraints& constraints, const float* node_iter, index_t c) {
@@ -255,18 +266,20 @@ struct finish_step {
   index_t collider_count;
   float* node_pos;
   float* node_vel;
-  TEAR_HD void operator()(index_t n) const {
+  TEAR_HD void operator()(index_t n) const { finish(n, n); }
+  /// Node n's end of step from its last iterate, at place i of `node_iter`.
+  TEAR_HD void finish(index_t n, index_t i) const {
     if (node_pinned[n]) {
       const PdPinMotion* motion = pin_motion_of(node_pinned, pin_motion, pin_count, n);
       if (!motion) {
         store3(node_vel, n, Vec3f{0, 0, 0});
         return;
       }
-      store3(node_pos, n, load3<float>(node_iter, n));
+      store3(node_pos, n, load3<float>(node_iter, i));
       store3(node_vel, n, Vec3f{motion->velocity[0], motion->velocity[1], motion->velocity[2]});
       return;
     }
-    Vec3f x = load3<float>(node_iter, n);
+    Vec3f x = load3<float>(node_iter, i);
     Vec3f v = (velocity_scale * inv_h) * (x - load3<float>(node_pos, n));
     for (index_t i = 0; i < collider_count; ++i) collide(colliders[i], x, v);
     store3(node_pos, n, x);

@@ -131,10 +131,6 @@ typename PdSolverOn<Cuda>::PersistentLaunch PdSolverOn<Cuda>::persistent_launch(
 
 template <class System>
 bool PdSolverOn<System>::step_persistent(int count) {
-  if (!persistent_decided_) {  // the device and mesh do not change until a rebuild
-    persistent_ = persistent_launch();
-    persistent_decided_ = true;
-  }
   if (persistent_.kind == PersistentLaunch::Kind::none) return false;
 #if TEAR_CUDA_SYSTEM
   SubstepKernels s = substep_kernels(raw<float>(omega_));

@@ -4,9 +4,11 @@
 //
 // The solver is split by concern into headers this file alone includes: sim/pd_substep.h (the
 // launch modes and one substep's kernels), sim/pd_solver_on.h (the solver class),
-// sim/pd_solver_model.h (the model), sim/pd_solver_step.h (stepping; launch modes `graph` and
-// `plain`), sim/pd_launch_persistent.h (launch mode `persistent`, choosing among the cooperative
-// kernels of sim/pd_launch_one_pass.h, sim/pd_launch_shared.h and sim/pd_launch_two_pass.h).
+// sim/pd_solver_model.h (the model), sim/pd_solver_step.h (stepping and choosing the launch; launch
+// modes `graph`, `plain` and `tiled`, whose kernel and layout are in sim/pd_launch_tiled.h and
+// sim/pd_tiled_layout.h),
+// sim/pd_launch_persistent.h (launch mode `persistent`, choosing among the cooperative kernels of
+// sim/pd_launch_one_pass.h, sim/pd_launch_shared.h and sim/pd_launch_two_pass.h).
 #include <memory>
 #include <vector>
 

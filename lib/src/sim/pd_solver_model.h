@@ -40,7 +40,6 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
   resize_for_overwrite(hinge_nodes_, pd_constraint_nodes * static_cast<std::size_t>(edge_count));
   resize_for_overwrite(hinge_coef_, pd_constraint_nodes * static_cast<std::size_t>(edge_count));
   for (auto* v : {&spring_weight_, &spring_rest_, &hinge_weight_, &hinge_rest_}) resize_for_overwrite(*v, edge_count);
-  resize_for_overwrite(constraint_force_, 3 * static_cast<std::size_t>(constraint_count_));
   for_each_index<System>(
       node_count_ + edge_count,
       make_over_three_ranges(

@@ -20,6 +20,7 @@
 #include "backend/replay_graph.h"
 #include "pd_model.h"
 #include "pd_step.h"
+#include "sim/pd_launch_tiled.h"
 #include "sim/pd_solver.h"
 #include "sim/pd_solver_device.h"
 #include "sim/pd_substep.h"
@@ -40,11 +41,14 @@ class PdSolverOn final : public PdSolver::Impl {
   PdSolverOn(const std::vector<index_t>& face_nodes_host, const std::vector<float>& node_rest_host, index_t node_count,
              const SimulationOptions& options, const std::vector<std::uint8_t>& node_pinned)
       : PdSolverOn(options, node_count, node_pinned, true) {
-    const vec<index_t> face_nodes(face_nodes_host.begin(), face_nodes_host.end());
     const vec<float> node_rest(node_rest_host.begin(), node_rest_host.end());
-    DeviceTopology<System> topo;
-    build_device_topology(topo, face_nodes, node_count_);
-    build_model(face_nodes, node_rest, topo);
+    {
+      const vec<index_t> face_nodes(face_nodes_host.begin(), face_nodes_host.end());
+      DeviceTopology<System> topo;
+      build_device_topology(topo, face_nodes, node_count_);
+      build_model(face_nodes, node_rest, topo);
+    }
+    decide_launch(raw<float>(node_rest));
   }
 
   /// From a cloth on this backend: its faces, rest shape, topology and pins; nothing leaves the device.
@@ -54,6 +58,7 @@ class PdSolverOn final : public PdSolver::Impl {
       : PdSolverOn(options, cloth.node_count(), std::vector<std::uint8_t>(), false) {
     thrust::copy(Traits<System>::policy(), cloth.node_pinned.begin(), cloth.node_pinned.end(), node_pinned_.begin());
     build_model(cloth.face_nodes, cloth.node_rest, cloth.topo);
+    decide_launch(raw<float>(cloth.node_rest));
   }
 
   /// The model of `cloth`'s mesh as it is now (after a cut or a tear), built into this solver's
@@ -69,8 +74,8 @@ class PdSolverOn final : public PdSolver::Impl {
     // A cloth's solver: `step_in_place` binds the cloth's state.
     state_pos_ = state_vel_ = nullptr;
     step_graph_ = std::make_unique<ReplayGraph<System>>();
-    persistent_decided_ = false;  // the launch depends on the mesh's size
     build_model(cloth.face_nodes, cloth.node_rest, cloth.topo);
+    decide_launch(raw<float>(cloth.node_rest));  // the launch depends on the mesh
   }
 
  private:
@@ -127,6 +132,7 @@ class PdSolverOn final : public PdSolver::Impl {
     return active_constraint_count_;
   }
   std::size_t bytes_per_iteration() const override {
+    if (tiled_used_) return tiled_.bytes_per_iteration();
     const std::size_t e = static_cast<std::size_t>(edge_count_), n = static_cast<std::size_t>(node_count_),
                       s = static_cast<std::size_t>(used_slot_count()), c = static_cast<std::size_t>(constraint_count_);
     // Local step: a spring's record (2 nodes, weight, rest length) or a hinge's (4 nodes, 4
@@ -188,6 +194,13 @@ class PdSolverOn final : public PdSolver::Impl {
   SubstepKernels substep_kernels(const float* omega);
   template <class Policy>
   void enqueue_substep(const Policy& policy);
+  /// How this mesh's substeps run, decided once its model is built: the cooperative kernel
+  /// (`persistent_`), or tiled (`tiled_used_`, its layout built from the model and the rest shape
+  /// `node_rest`) where the launch mode is `tiled`, or `persistent` and no kernel holds the
+  /// substep on chip. Frees what of the model the chosen launch does not read.
+  void decide_launch(const float* node_rest);
+  template <class Policy>
+  void enqueue_tiled_substep(const Policy& policy);
   /// How a substep runs as one cooperative kernel on this mesh and device.
   struct PersistentLaunch {
     enum class Kind { none, one_pass, shared, two_pass } kind = Kind::none;  // none: as `graph`
@@ -236,8 +249,9 @@ class PdSolverOn final : public PdSolver::Impl {
   std::unique_ptr<ReplayGraph<System>> step_graph_ =
       std::make_unique<ReplayGraph<System>>();  // one substep, recorded on the first step
   LaunchMode launch_mode_ = LaunchMode::persistent;
-  bool persistent_decided_ = false;  // persistent_ holds this mesh's launch
-  PersistentLaunch persistent_;
+  PersistentLaunch persistent_;  // this mesh's (`decide_launch`)
+  bool tiled_used_ = false;      // this mesh's substeps run tiled (`decide_launch`)
+  TiledLayout<System> tiled_;
   std::vector<float> omega_host_;  // ω of each iteration (Wang 2015, eq. 11)
   vec<float> omega_;               // the same on the backend, for the persistent kernel
 };

@@ -14,17 +14,20 @@ namespace tear::backend {
 
 /// How the CUDA backend launches a substep, from TEAR_CUDA_LAUNCH: `persistent` (the default: one
 /// cooperative kernel runs the whole substep, as `one-pass` on a mesh of a few thousand nodes, as
-/// `shared` on one whose blocks' shares fit in shared memory, as `two-pass` on a mesh the resident
-/// threads cover in a few rounds, else as `graph`), `one-pass` (one cooperative kernel, each
-/// iteration one pass and one grid barrier: a group of lanes per node computes its constraints'
-/// forces and sums them), `shared` (one cooperative kernel, a block per multiprocessor holding its
-/// run of nodes and their constraints in shared memory; as `two-pass` where they do not fit),
-/// `two-pass` (one cooperative kernel, each iteration a pass over the constraints and one over the
-/// nodes, the grid synchronising between them), `graph` (the substep's launches recorded once as a
-/// CUDA graph and replayed) or `plain` (every kernel launched on its own). Where the device has no
-/// cooperative launch the first four run as `graph`. All of them compute the same operations in the
+/// `shared` on one whose blocks' shares fit in shared memory, else as `tiled`), `one-pass` (one
+/// cooperative kernel, each iteration one pass and one grid barrier: a group of lanes per node
+/// computes its constraints' forces and sums them), `shared` (one cooperative kernel, a block per
+/// multiprocessor holding its run of nodes and their constraints in shared memory; as `two-pass`
+/// where they do not fit), `two-pass` (one cooperative kernel, each iteration a pass over the
+/// constraints and one over the nodes, the grid synchronising between them), `tiled` (each
+/// iteration one launch, a block per tile of nodes computing the forces on them in shared memory:
+/// sim/pd_launch_tiled.h), `graph` (the substep's launches recorded once as a CUDA graph and
+/// replayed) or `plain` (every kernel launched on its own). Where the device has no cooperative
+/// launch the first four run as `tiled`. `tiled` runs as `graph` on the CPU and where a tile would
+/// need more records or halo than its packed indices hold (`persistent` then takes `two-pass` on a
+/// mesh the resident threads cover in a few rounds). All of them compute the same operations in the
 /// same order: the same bits.
-enum class LaunchMode { persistent, one_pass, shared, two_pass, graph, plain };
+enum class LaunchMode { persistent, one_pass, shared, two_pass, tiled, graph, plain };
 
 inline LaunchMode launch_mode() {
   const char* setting = std::getenv("TEAR_CUDA_LAUNCH");
@@ -34,9 +37,11 @@ inline LaunchMode launch_mode() {
   if (mode == "one-pass") return LaunchMode::one_pass;
   if (mode == "shared") return LaunchMode::shared;
   if (mode == "two-pass") return LaunchMode::two_pass;
+  if (mode == "tiled") return LaunchMode::tiled;
   if (mode == "graph") return LaunchMode::graph;
   if (mode == "plain") return LaunchMode::plain;
-  throw runtime_error("TEAR_CUDA_LAUNCH=" + mode + ": expected persistent, one-pass, shared, two-pass, graph or plain");
+  throw runtime_error("TEAR_CUDA_LAUNCH=" + mode +
+                      ": expected persistent, one-pass, shared, two-pass, tiled, graph or plain");
 }
 
 /// The three iterate buffers of a substep's iterations: the one an iteration reads (`cur`), the one
