@@ -65,8 +65,9 @@ void print_remesh_row(const BenchRow& r, const BenchRow* cpu) {
 }
 
 void print_pd_row(const PdBenchRow& r, const PdBenchRow* cpu) {
-  std::printf("%10d  %9d  %-4s  %9.3f  %10.4f  %12.3e  %9.1f  %9.3f", r.faces, r.nodes, to_string(r.device), r.step_ms,
-              r.iteration_ms, r.node_iterations_per_s, double(r.bytes_per_iteration) / r.nodes, r.floor_ms);
+  std::printf("%10d  %9d  %-4s  %9.3f  %10.4f  %12.3e  %9.1f  %9.3f  %6.0f%%", r.faces, r.nodes, to_string(r.device),
+              r.step_ms, r.iteration_ms, r.node_iterations_per_s, double(r.bytes_per_iteration) / r.nodes, r.floor_ms,
+              r.step_ms > 0 ? 100.0 * r.floor_ms / r.step_ms : 0.0);
   std::printf("  %9.1f", mib(r.peak_bytes));
   if (cpu && r.step_ms > 0) std::printf("  %8.1fx", cpu->step_ms / r.step_ms);
   std::printf("\n");
@@ -190,8 +191,8 @@ void bench_pd(const BenchOptions& options, Device device, bool with_cpu, nlohman
   std::printf("\nsolver: one step of %d iterations, sheet pinned along its top edge; copy bandwidth %.0f GB/s",
               options.iterations, bandwidth * 1e-9);
   if (with_cpu) std::printf(" (cpu %.0f GB/s)", cpu_bandwidth * 1e-9);
-  std::printf("\n%10s  %9s  %-4s  %9s  %10s  %12s  %9s  %9s  %9s%s\n", "faces", "nodes", "dev", "step", "iteration",
-              "node-it/s", "B/node-it", "floor", "peak MiB", with_cpu ? "  cpu/gpu" : "");
+  std::printf("\n%10s  %9s  %-4s  %9s  %10s  %12s  %9s  %9s  %7s  %9s%s\n", "faces", "nodes", "dev", "step",
+              "iteration", "node-it/s", "B/node-it", "floor", "of copy", "peak MiB", with_cpu ? "  cpu/gpu" : "");
   std::fflush(stdout);
   const nlohmann::json rows = run_sizes(
       options, device, with_cpu,
