@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cmath>
+#include <string>
 
 #include <thrust/for_each.h>
 #include <thrust/iterator/counting_iterator.h>
@@ -194,6 +195,9 @@ void PdSolverOn<System>::enqueue_tiled_substep(const Policy& policy) {
     for (int k = 0; k < options_.iterations; ++k) {
       s.iteration(k, it);
       tiled_iteration_kernel<<<static_cast<unsigned>(tiled_.tiles), tiled_block, bytes, stream>>>(model, s.update);
+      const cudaError_t status = cudaGetLastError();
+      if (status != cudaSuccess)
+        throw runtime_error(std::string("the solver's kernel could not be launched: ") + cudaGetErrorString(status));
       it.rotate();
     }
     s.finish_from(it);
