@@ -18,7 +18,7 @@ import torch
 
 
 def sheet(n, device):
-    """Nodes, edges (a, b), hinges (a, b, c, d) of an n x n grid of unit-square quads."""
+    """Nodes, faces, edges (a, b) with their face counts, hinges (a, b, c, d) of an n x n grid of quads."""
     i = torch.arange(n + 1, device=device)
     y, x = torch.meshgrid(i, i, indexing="ij")
     pos = torch.stack([x.flatten(), y.flatten(), torch.zeros_like(x.flatten())], 1).float() / n
@@ -38,7 +38,7 @@ def sheet(n, device):
     edges = torch.stack([lo[first], hi[first]], 1)
     inner = counts == 2
     hinges = torch.stack([lo[first[inner]], hi[first[inner]], opp[first[inner]], opp[first[inner] + 1]], 1)
-    return pos, faces, edges, hinges
+    return pos, faces, edges, counts, hinges
 
 
 def hinge_coefficients(x, h):
@@ -58,7 +58,7 @@ def hinge_coefficients(x, h):
 
 def run(faces_wanted, iterations, repeats, device):
     n = int(math.isqrt(faces_wanted // 2))
-    pos, faces, edges, hinges = sheet(n, device)
+    pos, faces, edges, edge_faces, hinges = sheet(n, device)
     nodes = pos.shape[0]
     h = 1.0 / 24.0  # tear bench: 24 frames a second, one substep
     density, stretch, bend = 0.2, 1000.0, 1e-4  # tear's defaults (SimulationOptions)
@@ -67,8 +67,7 @@ def run(faces_wanted, iterations, repeats, device):
     ea, eb = edges[:, 0], edges[:, 1]
     rest = (pos[ea] - pos[eb]).norm(dim=1)
     # Springs: weight stiffness x a third of the edge's faces' area / L^2 (two faces inside, one on the border).
-    edge_faces = torch.ones_like(rest) + 0.0
-    w_s = stretch * (edge_faces * area) / 3 / rest**2
+    w_s = stretch * (edge_faces.float() * area) / 3 / rest**2
     k, len2, _ = hinge_coefficients(pos, hinges)
     w_h = (bend * 3 * len2 / (2 * area)).float()
     k = k.float()
