@@ -50,17 +50,24 @@ struct limit_strain_rate {
   float h, inv_h;
   float rate;  // limit / h: the bound on an altitude's shrinking per metre of it, 1/s
   bool finish;
+  /// Where not null (cleared before the first pass): the first pass raises it where any altitude
+  /// passes its bound, and the later passes do nothing while it is down. Without an excess every
+  /// pass gives each node its own mean velocity back and the last writes nothing, so skipping them
+  /// changes no bit; a substep with nothing to limit costs one pass instead of all.
+  int* excess = nullptr;
 
   TEAR_HD Vec3f velocity(index_t m) const {
     return vel_in ? load3<float>(vel_in, m) : inv_h * (load3<float>(node_pos, m) - load3<float>(node_start, m));
   }
 
   TEAR_HD void operator()(index_t n) const {
+    if (vel_in != nullptr && excess != nullptr && *excess == 0) return;
     const Vec3f v = velocity(n);
     Vec3f sum{0, 0, 0};
     int count = 0;
     if (!node_pinned[n])
       for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) face_shares(node_faces[i], n, v, sum, count);
+    if (count > 0 && excess != nullptr && vel_in == nullptr) raise(excess);
     const Vec3f limited = count > 0 ? v + (1.0f / static_cast<float>(count)) * sum : v;
     if (!finish) {
       store3(vel_out, n, limited);
@@ -71,6 +78,15 @@ struct limit_strain_rate {
     if (limited.x == before.x && limited.y == before.y && limited.z == before.z) return;
     store3(node_pos, n, load3<float>(node_start, n) + h * limited);
     store3(node_vel, n, load3<float>(node_vel, n) + (limited - before));
+  }
+
+  /// Sets `*flag` to 1; threads race only to write the same value.
+  TEAR_HD static void raise(int* flag) {
+#if defined(__CUDA_ARCH__)
+    *static_cast<volatile int*>(flag) = 1;
+#else
+    __atomic_store_n(flag, 1, __ATOMIC_RELAXED);
+#endif
   }
 
   /// Node n's shares of face f's three altitudes over their bounds. The altitude of corner a over

@@ -134,6 +134,14 @@ TEAR_HD inline double face_stretch_tensor(const index_t* face_nodes, const float
   return area;
 }
 
+/// Per element i: f(i) into out[i] (the check's largest values are reduced from these).
+template <class F>
+struct store_value {
+  F f;
+  double* out;
+  TEAR_HD void operator()(index_t i) const { out[i] = f(i); }
+};
+
 /// Eight sums of a disc of crack growth: the area-weighted stretch tensor (6), strength, and area.
 struct DiscSums {
   double v[8];
@@ -247,6 +255,81 @@ struct store_rest_centroids {
   TEAR_HD void operator()(index_t f) const { rest_centroid(face_nodes, node_rest, f, out + 3 * f); }
 };
 
+/// The disc a start candidate's stretch is smoothed over: the plane of face f (its unit normal `n`)
+/// and the grid's cells over [c - r, c + r] around its rest centroid c, as key ranges. The cells of
+/// one (x, y) column are consecutive keys (z is the key's low bits) unless z wraps within the range:
+/// one range per column then, else one per cell; ranges in x, y, z order, at most 27.
+struct StartDisc {
+  double n[3];
+  const double* c;
+  std::int64_t lo[3], hi[3];
+  bool column;
+
+  static TEAR_HD std::int64_t wrap(std::int64_t v) {
+    return (v + (std::int64_t(1) << 20)) & ((std::int64_t(1) << 21) - 1);
+  }
+  /// False where face f has no area (no plane).
+  TEAR_HD bool make(const index_t* face_nodes, const float* node_rest, const double* centroids, const FaceGrid& grid,
+                    double radius, index_t f) {
+    double E1[3], E2[3];
+    for (int d = 0; d < 3; ++d) {
+      E1[d] = static_cast<double>(node_rest[3 * face_nodes[3 * f + 1] + d]) - node_rest[3 * face_nodes[3 * f] + d];
+      E2[d] = static_cast<double>(node_rest[3 * face_nodes[3 * f + 2] + d]) - node_rest[3 * face_nodes[3 * f] + d];
+    }
+    n[0] = E1[1] * E2[2] - E1[2] * E2[1];
+    n[1] = E1[2] * E2[0] - E1[0] * E2[2];
+    n[2] = E1[0] * E2[1] - E1[1] * E2[0];
+    const double ln = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
+    if (!(ln > 0)) return false;
+    for (int d = 0; d < 3; ++d) n[d] = n[d] * (1 / ln);
+    c = centroids + 3 * f;
+    for (int a = 0; a < 3; ++a) {
+      lo[a] = static_cast<std::int64_t>(floor((c[a] - radius) / grid.cell));
+      hi[a] = static_cast<std::int64_t>(floor((c[a] + radius) / grid.cell));
+    }
+    column = wrap(lo[2]) <= wrap(hi[2]) && hi[2] - lo[2] < (std::int64_t(1) << 21);
+    return true;
+  }
+  TEAR_HD int ranges() const {
+    return static_cast<int>((hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (column ? 1 : hi[2] - lo[2] + 1));
+  }
+  /// Range r: the index of its first entry in the grid and the last key in it.
+  TEAR_HD index_t range(const FaceGrid& grid, int r, std::int64_t& last_key) const {
+    const std::int64_t nz = column ? 1 : hi[2] - lo[2] + 1, ny = hi[1] - lo[1] + 1;
+    const std::int64_t x = lo[0] + r / (ny * nz), y = lo[1] + (r / nz) % ny, z = lo[2] + r % nz;
+    const std::int64_t base = (wrap(x) << 42) + (wrap(y) << 21);
+    const std::int64_t key = base + wrap(z);
+    last_key = column ? base + wrap(hi[2]) : key;
+    index_t first = 0, last = grid.count;  // lower bound of key
+    while (first < last) {
+      const index_t mid = first + (last - first) / 2;
+      if (grid.keys[mid] < key)
+        first = mid + 1;
+      else
+        last = mid;
+    }
+    return first;
+  }
+  /// Entry i's face's term added to `sum` where its centroid lies within `radius`.
+  TEAR_HD void add(const FaceGrid& grid, const DiscSums* terms, const double* centroids, double radius, index_t i,
+                   DiscSums& sum) const {
+    const index_t g = grid.faces[i];
+    const double* q = centroids + 3 * g;
+    const double dx = q[0] - c[0], dy = q[1] - c[1], dz = q[2] - c[2];
+    if (!(sqrt(dx * dx + dy * dy + dz * dz) <= radius)) return;
+    const DiscSums& term = terms[g];
+    for (int k = 0; k < 8; ++k) sum.v[k] += term.v[k];
+  }
+  /// The smoothed stretch of the disc's sums over the start limit `start`, 0 for an empty disc.
+  TEAR_HD double ratio(DiscSums sum, double start) const {
+    const double area = sum.v[7];
+    if (!(area > 0)) return 0;
+    for (int k = 0; k < 6; ++k) sum.v[k] = sum.v[k] / area;
+    const double lambda = principal_in_plane(sum.v, n);
+    return sqrt(lambda > 0 ? lambda : 0.0) / (start * (sum.v[6] / area));
+  }
+};
+
 /// Per face: where a new crack could start there, its smoothed stretch over the start limit (the
 /// test `CrackField::start` makes of a candidate: the stretch smoothed over the disc of `radius`
 /// around the face's rest centroid, in the face's plane, over `start` times the disc's mean
@@ -260,60 +343,60 @@ struct start_ratio_of {
   const DiscSums* terms;    // [faces]
   const double* centroids;  // [3 faces]
   TEAR_HD double operator()(index_t f) const {
-    if (!(own(f) > 0.999)) return 0;
-    const index_t* face_nodes = own.face_nodes;
-    const float* node_rest = own.node_rest;
-    double n[3], E1[3], E2[3];
-    const double* c = centroids + 3 * f;
-    for (int d = 0; d < 3; ++d) {
-      E1[d] = static_cast<double>(node_rest[3 * face_nodes[3 * f + 1] + d]) - node_rest[3 * face_nodes[3 * f] + d];
-      E2[d] = static_cast<double>(node_rest[3 * face_nodes[3 * f + 2] + d]) - node_rest[3 * face_nodes[3 * f] + d];
+    StartDisc disc;
+    if (!(own(f) > 0.999) || !disc.make(own.face_nodes, own.node_rest, centroids, grid, radius, f)) return 0;
+    DiscSums sum{{0, 0, 0, 0, 0, 0, 0, 0}};
+    for (int r = 0; r < disc.ranges(); ++r) {
+      std::int64_t last_key = 0;
+      for (index_t i = disc.range(grid, r, last_key); i < grid.count && grid.keys[i] <= last_key; ++i)
+        disc.add(grid, terms, centroids, radius, i, sum);
     }
-    n[0] = E1[1] * E2[2] - E1[2] * E2[1];
-    n[1] = E1[2] * E2[0] - E1[0] * E2[2];
-    n[2] = E1[0] * E2[1] - E1[1] * E2[0];
-    const double ln = sqrt(n[0] * n[0] + n[1] * n[1] + n[2] * n[2]);
-    if (!(ln > 0)) return 0;
-    for (int d = 0; d < 3; ++d) n[d] = n[d] * (1 / ln);
-    // The disc: the grid's cells over [c - r, c + r], faces whose centroid lies within r. The cells
-    // of one (x, y) column are consecutive keys (z is the key's low bits) unless z wraps within the
-    // range: one search per column then, and the faces met in the same order.
-    std::int64_t lo[3], hi[3];
-    for (int a = 0; a < 3; ++a) {
-      lo[a] = static_cast<std::int64_t>(floor((c[a] - radius) / grid.cell));
-      hi[a] = static_cast<std::int64_t>(floor((c[a] + radius) / grid.cell));
+    return disc.ratio(sum, own.start);
+  }
+};
+
+/// `start_ratio_of` into `out` [faces], a warp a face: element i is lane i % 32 of face i / 32 (a
+/// launch of 32 elements a face, one per thread, so that a warp holds one face's 32 lanes). The
+/// lanes search the disc's ranges at once and share its entries (lane j takes every 32nd from the
+/// j-th), then their sums are added in a fixed tree: the same value every run, though summed in
+/// another order than `start_ratio_of` (the value only gates the host's plan, with a margin). A
+/// face's disc walked by one thread is a chain of some 900 dependent loads, about half a
+/// millisecond on an H200 whatever the number of faces. Off the GPU, lane 0 computes
+/// `start_ratio_of`.
+struct start_ratio_by_warp {
+  start_ratio_of one;
+  double* out;
+  TEAR_HD void operator()(index_t i) const {
+    const index_t f = i / 32;
+    const int lane = static_cast<int>(i % 32);
+#if defined(__CUDA_ARCH__)
+    StartDisc disc;
+    const bool candidate =
+        one.own(f) > 0.999 && disc.make(one.own.face_nodes, one.own.node_rest, one.centroids, one.grid, one.radius, f);
+    if (!candidate) {  // the same for the whole warp
+      if (lane == 0) out[f] = 0;
+      return;
     }
-    const auto wrap = [](std::int64_t v) { return (v + (std::int64_t(1) << 20)) & ((std::int64_t(1) << 21) - 1); };
-    const bool column = wrap(lo[2]) <= wrap(hi[2]) && hi[2] - lo[2] < (std::int64_t(1) << 21);
-    double sum[6] = {0, 0, 0, 0, 0, 0}, strength = 0, area = 0;
-    for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
-      for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
-        for (std::int64_t z = lo[2]; z <= (column ? lo[2] : hi[2]); ++z) {
-          const std::int64_t base = (wrap(x) << 42) + (wrap(y) << 21);
-          const std::int64_t key = base + wrap(z), last_key = column ? base + wrap(hi[2]) : key;
-          index_t first = 0, last = grid.count;  // lower bound of key
-          while (first < last) {
-            const index_t mid = first + (last - first) / 2;
-            if (grid.keys[mid] < key)
-              first = mid + 1;
-            else
-              last = mid;
-          }
-          for (index_t i = first; i < grid.count && grid.keys[i] <= last_key; ++i) {
-            const index_t g = grid.faces[i];
-            const double* q = centroids + 3 * g;
-            const double dx = q[0] - c[0], dy = q[1] - c[1], dz = q[2] - c[2];
-            if (!(sqrt(dx * dx + dy * dy + dz * dz) <= radius)) continue;
-            const DiscSums& term = terms[g];
-            for (int k = 0; k < 6; ++k) sum[k] += term.v[k];
-            strength += term.v[6];
-            area += term.v[7];
-          }
-        }
-    if (!(area > 0)) return 0;
-    for (int k = 0; k < 6; ++k) sum[k] = sum[k] / area;
-    const double lambda = principal_in_plane(sum, n);
-    return sqrt(lambda > 0 ? lambda : 0.0) / (own.start * (strength / area));
+    std::int64_t last_key = 0;
+    const int ranges = disc.ranges();
+    if (ranges > 32) {  // a grid finer than the disc: one lane walks it
+      if (lane == 0) out[f] = one(f);
+      return;
+    }
+    const index_t first = lane < ranges ? disc.range(one.grid, lane, last_key) : 0;
+    DiscSums sum{{0, 0, 0, 0, 0, 0, 0, 0}};
+    for (int r = 0; r < ranges; ++r) {
+      const index_t begin = __shfl_sync(0xffffffffu, first, r);
+      const std::int64_t end_key = __shfl_sync(0xffffffffu, last_key, r);
+      for (index_t e = begin + lane; e < one.grid.count && one.grid.keys[e] <= end_key; e += 32)
+        disc.add(one.grid, one.terms, one.centroids, one.radius, e, sum);
+    }
+    for (int offset = 16; offset > 0; offset /= 2)
+      for (int k = 0; k < 8; ++k) sum.v[k] += __shfl_down_sync(0xffffffffu, sum.v[k], offset);
+    if (lane == 0) out[f] = disc.ratio(sum, one.own.start);
+#else
+    if (lane == 0) out[f] = one(f);
+#endif
   }
 };
 

@@ -8,18 +8,19 @@
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <type_traits>
 #include <vector>
 
 #include <thrust/copy.h>
+#include <thrust/fill.h>
 #include <thrust/for_each.h>
 #include <thrust/functional.h>
 #include <thrust/iterator/counting_iterator.h>
 #include <thrust/iterator/transform_iterator.h>
 #include <thrust/reduce.h>
-#include <thrust/transform_reduce.h>
 
 #include "backend/backend.h"
 #include "cloth/cloth_cutting.h"
@@ -148,7 +149,7 @@ class StepJob {
     const double h = options_.step_seconds();
     resize_for_overwrite(rate_[0], cloth.node_pos.size());
     resize_for_overwrite(rate_[1], cloth.node_pos.size());
-    const thrust::counting_iterator<index_t> zero(0);
+    resize_for_overwrite(excess_, 1);
     kernels::limit_strain_rate pass{raw<index_t>(cloth.face_nodes),
                                     raw<index_t>(cloth.topo.node_face_offset),
                                     raw<index_t>(cloth.topo.node_faces),
@@ -161,12 +162,14 @@ class StepJob {
                                     static_cast<float>(h),
                                     static_cast<float>(1 / h),
                                     static_cast<float>(options_.tearing.strain_rate_limit / h),
-                                    false};
+                                    false,
+                                    raw<int>(excess_)};
+    thrust::fill(Traits<System>::policy(), excess_.begin(), excess_.end(), 0);
     for (int p = 0; p < kernels::strain_rate_passes; ++p) {
       pass.vel_in = p == 0 ? nullptr : raw<float>(rate_[(p + 1) % 2]);
       pass.vel_out = raw<float>(rate_[p % 2]);
       pass.finish = p + 1 == kernels::strain_rate_passes;
-      thrust::for_each(Traits<System>::policy(), zero, zero + cloth.node_count(), pass);
+      for_each_index<System>(cloth.node_count(), pass);
     }
   }
 
@@ -236,12 +239,9 @@ class StepJob {
   /// faces' largest stretch is reduced on the backend and read back: below `quiet_limit` that is
   /// all. Returns whether the cloth tore.
   bool tear(DeviceCloth<System>& cloth, CutJob<System>& cutter, StepMarks& m, TearStats& torn) {
-    const thrust::counting_iterator<index_t> zero(0);
-    const double largest =
-        thrust::transform_reduce(Traits<System>::policy(), zero, zero + cloth.face_count(),
-                                 kernels::face_stretch_of{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
-                                                          raw<float>(cloth.node_pos)},
-                                 0.0, thrust::maximum<double>());
+    const double largest = largest_of(
+        cloth.face_count(), kernels::face_stretch_of{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
+                                                     raw<float>(cloth.node_pos)});
     if (!(largest > quiet_limit())) {
       m.check_end.record();
       return false;
@@ -274,9 +274,9 @@ class StepJob {
       m.check_end.record();
       return false;
     }
-    const std::vector<float> positions = to_host<float>(cloth.node_pos);
+    const std::vector<float> node_pos = positions(cloth);
     const auto t2 = std::chrono::steady_clock::now();
-    const CrackPlan plan = field_->plan(positions);
+    const CrackPlan plan = field_->plan(node_pos);
     const auto t3 = std::chrono::steady_clock::now();
     if (std::getenv("TEAR_DEBUG_CRACK_TIMES"))
       std::fprintf(stderr, "check: field %.3f ms, positions %.3f ms, plan %.3f ms (discs %.3f ms, starts %.3f ms; "
@@ -353,8 +353,7 @@ class StepJob {
                                               options_.tearing.start_stretch()};
     double start = 0;
     if (std::is_same<System, Omp>::value) {
-      start = thrust::transform_reduce(Traits<System>::policy(), zero, zero + cloth.face_count(), own, 0.0,
-                                       thrust::maximum<double>());
+      start = largest_of(cloth.face_count(), own);
     } else {
       const kernels::FaceGrid grid{raw<std::int64_t>(cell_key_), raw<index_t>(cell_face_),
                                    static_cast<index_t>(cell_key_.size()), probes_.cell};
@@ -363,21 +362,26 @@ class StepJob {
       const index_t faces = cloth.face_count();
       if (!centroids_ready_) {
         resize_for_overwrite(face_centroids_, 3 * std::size_t(faces));
-        thrust::for_each(Traits<System>::policy(), zero, zero + faces,
-                         kernels::store_rest_centroids{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
-                                                       raw<double>(face_centroids_)});
+        for_each_index<System>(
+            faces, kernels::store_rest_centroids{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
+                                                 raw<double>(face_centroids_)});
         centroids_ready_ = true;
       }
       resize_for_overwrite(face_terms_, faces);
-      thrust::for_each(Traits<System>::policy(), zero, zero + faces,
-                       kernels::store_disc_terms{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
-                                                 raw<float>(cloth.node_pos), strength,
-                                                 raw<kernels::DiscSums>(face_terms_)});
-      start = thrust::transform_reduce(
-          Traits<System>::policy(), zero, zero + faces,
-          kernels::start_ratio_of{own, grid, probes_.radius, raw<kernels::DiscSums>(face_terms_),
-                                  raw<double>(face_centroids_)},
-          0.0, thrust::maximum<double>());
+      for_each_index<System>(
+          faces, kernels::store_disc_terms{raw<index_t>(cloth.face_nodes), raw<float>(cloth.node_rest),
+                                           raw<float>(cloth.node_pos), strength, raw<kernels::DiscSums>(face_terms_)});
+      const kernels::start_ratio_of ratio{own, grid, probes_.radius, raw<kernels::DiscSums>(face_terms_),
+                                          raw<double>(face_centroids_)};
+      if (faces <= std::numeric_limits<index_t>::max() / 32) {
+        // A warp a face (kernels::start_ratio_by_warp): its disc's entries shared by 32 lanes.
+        resize_for_overwrite(values_, faces);
+        for_each_index<System>(32 * faces, kernels::start_ratio_by_warp{ratio, raw<double>(values_)});
+        start =
+            thrust::reduce(Traits<System>::policy(), values_.begin(), values_.end(), 0.0, thrust::maximum<double>());
+      } else {
+        start = largest_of(faces, ratio);
+      }
     }
     const auto t2 = std::chrono::steady_clock::now();
     check_ms_[0] = std::chrono::duration<double, std::milli>(t1 - t0).count();
@@ -385,23 +389,76 @@ class StepJob {
     return field_->may_cut(probes_, sums, start);
   }
 
-  /// What crack growth reads of the cloth, on the host.
-  static CrackMesh crack_mesh(const DeviceCloth<System>& c) {
+  /// The largest of `f(i)` over [0, count) and 0: each value by one thread into a buffer
+  /// (`for_each_index`), then the buffer reduced. A reduction or transform that calls a costly `f`
+  /// itself hands each thread a run of elements in turn (CUB's even share: a few blocks for a mesh
+  /// of 38K faces, a smoothed disc per element); one thread an element spreads `f` over the whole
+  /// device. The maximum is the same whichever way.
+  template <class F>
+  double largest_of(index_t count, const F& f) {
+    resize_for_overwrite(values_, count);
+    for_each_index<System>(count, kernels::store_value<F>{f, raw<double>(values_)});
+    return thrust::reduce(Traits<System>::policy(), values_.begin(), values_.end(), 0.0, thrust::maximum<double>());
+  }
+
+  /// What crack growth reads of the cloth, on the host: its arrays queued into one read-back
+  /// through page-locked memory and waited for once (a copy each into pageable memory waited for
+  /// every one). Of the topology only what crack growth looks up; the UVs only where a weave or
+  /// seams need them; which corners' edges are torn marked on the backend, where the origins they
+  /// are told from already are.
+  CrackMesh crack_mesh(const DeviceCloth<System>& c) {
+    struct Part {
+      std::size_t offset, count;
+    };
+    const index_t faces = c.topo.face_count;
+    resize_for_overwrite(corner_torn_, 3 * std::size_t(faces));
+    for_each_index<System>(
+        3 * faces, kernels::mark_torn_corners{raw<index_t>(c.topo.face_edges), raw<index_t>(c.topo.edge_faces),
+                                              raw<index_t>(c.face_origin), raw<float>(c.corner_origin),
+                                              raw<std::uint8_t>(c.input_face_border), raw<std::uint8_t>(corner_torn_)});
+    read_.clear();
+    const auto queue = [&](const auto& v) {
+      using T = typename std::decay_t<decltype(v)>::value_type;
+      return Part{read_.template queue<T>(raw<T>(v), v.size()), v.size()};
+    };
+    const auto take = [&](const Part& part, auto& out) {
+      using T = typename std::decay_t<decltype(out)>::value_type;
+      const T* from = read_.template at<T>(part.offset);
+      out.assign(from, from + part.count);
+    };
+    const TearingOptions& o = options_.tearing;
+    const bool uv_needed = o.has_weave || o.seam_strength != 1;
+    const Part rest = queue(c.node_rest), face_nodes = queue(c.face_nodes),
+               uv = uv_needed ? queue(c.corner_uv) : Part{0, 0}, strength = queue(c.face_strength),
+               edge_nodes = queue(c.topo.edge_nodes), edge_faces = queue(c.topo.edge_faces),
+               face_edges = queue(c.topo.face_edges), node_face_offset = queue(c.topo.node_face_offset),
+               node_faces = queue(c.topo.node_faces), torn = queue(corner_torn_);
+    read_.wait();
     CrackMesh mesh;
-    mesh.node_rest = to_host<float>(c.node_rest);
-    mesh.face_nodes = to_host<index_t>(c.face_nodes);
-    mesh.corner_uv = to_host<float>(c.corner_uv);
-    mesh.face_strength = to_host<float>(c.face_strength);
-    mesh.topo = download(c.topo);
-    const std::vector<index_t> face_origin = to_host<index_t>(c.face_origin);
-    const std::vector<float> corner_origin = to_host<float>(c.corner_origin);
-    const std::vector<std::uint8_t> input_border = to_host<std::uint8_t>(c.input_face_border);
-    mesh.corner_torn.resize(3 * std::size_t(mesh.topo.face_count));
-    const kernels::mark_torn_corners mark{mesh.topo.face_edges.data(), mesh.topo.edge_faces.data(),
-                                          face_origin.data(),          corner_origin.data(),
-                                          input_border.data(),         mesh.corner_torn.data()};
-    for (index_t corner = 0; corner < 3 * mesh.topo.face_count; ++corner) mark(corner);
+    take(rest, mesh.node_rest);
+    take(face_nodes, mesh.face_nodes);
+    take(uv, mesh.corner_uv);
+    take(strength, mesh.face_strength);
+    take(torn, mesh.corner_torn);
+    Topology& t = mesh.topo;
+    t.node_count = c.topo.node_count;
+    t.face_count = faces;
+    t.edge_count = c.topo.edge_count;
+    take(edge_nodes, t.edge_nodes);
+    take(edge_faces, t.edge_faces);
+    take(face_edges, t.face_edges);
+    take(node_face_offset, t.node_face_offset);
+    take(node_faces, t.node_faces);
     return mesh;
+  }
+
+  /// The cloth's positions on the host, through the same page-locked read-back.
+  std::vector<float> positions(const DeviceCloth<System>& c) {
+    read_.clear();
+    const std::size_t at = read_.template queue<float>(raw<float>(c.node_pos), c.node_pos.size());
+    read_.wait();
+    const float* from = read_.template at<float>(at);
+    return std::vector<float>(from, from + c.node_pos.size());
   }
 
   SimulationOptions options_;
@@ -410,6 +467,8 @@ class StepJob {
   std::unique_ptr<PdSolver::Impl> solver_;                       // the model of the mesh it was built for
   bool stale_ = false;                                           // the mesh changed since
   std::optional<CrackField> field_;                              // crack growth's view of the rest mesh, while it holds
+  ReadBack<System> read_;                                        // crack growth's reads of the cloth
+  vector<System, std::uint8_t> corner_torn_;                     // CrackMesh::corner_torn, marked on the backend
   CrackProbes probes_;                                           // the field's probes, and in the backend's memory:
   vector<System, index_t> probe_keys_, probe_faces_, sum_keys_;  // disc of each entry, its face
   vector<System, std::uint8_t> may_start_;
@@ -417,7 +476,9 @@ class StepJob {
   vector<System, index_t> cell_face_;
   vector<System, kernels::DiscSums> sums_;
   vector<System, float> start_pos_, rate_[2];  // the strain rate limit's start positions and mean velocities
+  vector<System, int> excess_;                 // [1] the limit's first pass found an altitude to limit
   vector<System, kernels::DiscSums> face_terms_;  // every face's disc term, this check's (GPU)
+  vector<System, double> values_;                 // largest_of's per-element values
   vector<System, double> face_centroids_;         // every face's rest centroid, this view's (GPU)
   bool centroids_ready_ = false;
   // For TEAR_DEBUG_CRACK_TIMES: the last may_cut's parts (discs, starts) and the last check's view
