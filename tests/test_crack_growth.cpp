@@ -466,3 +466,43 @@ TEST_CASE("crack growth: a woven sheet with a seam pulled apart by its corners t
     CHECK(t.smallest_angle >= 1.5);
   }
 }
+
+TEST_CASE("crack growth: the grid of faces by cell holds the (cell key, face) pairs in order, near and far "
+          "from the origin", "[tearing]") {
+  // The grid is counted into the box of cells its faces span, or sorted where the box is huge or
+  // the cells lie past 2^20 of them from the origin: either way the order of the sorted pairs.
+  for (const double offset : {0.0, -3.0, 1.0e5}) {
+    tear::Mesh input = sheet(800, true);
+    for (std::size_t n = 0; n < input.node_pos.size(); n += 3) {
+      input.node_pos[n] += static_cast<float>(offset);
+      input.node_pos[n + 2] = 0.3f * input.node_pos[n + 1] * input.node_pos[n + 1];  // a curved sheet
+    }
+    const tear::Cloth cloth(input, tear::test::test_device());
+    tear::TearingOptions options;
+    options.stretch = 1.3;
+    options.radius = 0.05;
+    const tear::CrackField field(crack_mesh_of(cloth), options);
+    const tear::CrackProbes probes = field.probes();
+    // The pairs as the grid's keys define them, from the rest centroids crack growth computes.
+    const std::vector<float> rest = cloth.node_rest();
+    const std::vector<index_t> faces = cloth.face_nodes();
+    std::vector<std::pair<std::int64_t, index_t>> pairs;
+    for (index_t f = 0; 3 * std::size_t(f) < faces.size(); ++f) {
+      double c[3];
+      tear::kernels::rest_centroid(faces.data(), rest.data(), f, c);
+      std::int64_t key = 0;
+      for (int a = 0; a < 3; ++a)
+        key = key * (std::int64_t(1) << 21) +
+              ((static_cast<std::int64_t>(std::floor(c[a] / probes.cell)) + (std::int64_t(1) << 20)) &
+               ((std::int64_t(1) << 21) - 1));
+      pairs.push_back({key, f});
+    }
+    std::sort(pairs.begin(), pairs.end());
+    INFO("sheet moved by " << offset << " m along x");
+    REQUIRE(probes.cell_key.size() == pairs.size());
+    bool same = true;
+    for (std::size_t i = 0; i < pairs.size(); ++i)
+      same = same && probes.cell_key[i] == pairs[i].first && probes.cell_face[i] == pairs[i].second;
+    CHECK(same);
+  }
+}

@@ -2,9 +2,11 @@
 // stretch tensors, the grid of faces by disc-sized cell, the smoothed tensor, the border walked
 // both ways with its torn edges and seams, the nearest border point and the piece a cut would leave.
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <limits>
 #include <string>
 #include <vector>
@@ -110,6 +112,17 @@ std::vector<float> face_strength_field(const std::vector<float>& node_rest, cons
 }
 
 CrackField::CrackField(CrackMesh mesh, const TearingOptions& options) : m_(std::move(mesh)), options_(options) {
+  // TEAR_DEBUG_CRACK_TIMES=1: the construction's parts on standard error.
+  static const bool timed = std::getenv("TEAR_DEBUG_CRACK_TIMES") != nullptr;
+  using Clock = std::chrono::steady_clock;
+  Clock::time_point mark = Clock::now();
+  double part_ms[5] = {0, 0, 0, 0, 0};
+  const auto lap = [&](int part) {
+    if (!timed) return;
+    const Clock::time_point now = Clock::now();
+    part_ms[part] = std::chrono::duration<double, std::milli>(now - mark).count();
+    mark = now;
+  };
   const index_t faces = m_.topo.face_count, nodes = m_.topo.node_count;
   face_centroid_.resize(faces);
   face_normal_.resize(faces);
@@ -126,12 +139,19 @@ CrackField::CrackField(CrackMesh mesh, const TearingOptions& options) : m_(std::
   }
   for (index_t f = 0; f < faces; ++f) total_area_ += face_area_[f];
   // The smoothing disc spans a face at least, so a coarse mesh still averages a neighbourhood.
-  double edges = 0;
+  // Each edge's length on the host's threads, summed in edge order: the same sum on any number.
+  std::vector<double> length(m_.topo.edge_count);
+#pragma omp parallel for schedule(static)
   for (index_t e = 0; e < m_.topo.edge_count; ++e)
-    edges += norm(sub(rest(m_.topo.edge_nodes[2 * e]), rest(m_.topo.edge_nodes[2 * e + 1])));
+    length[e] = norm(sub(rest(m_.topo.edge_nodes[2 * e]), rest(m_.topo.edge_nodes[2 * e + 1])));
+  double edges = 0;
+  for (const double l : length) edges += l;
   radius_ = std::max(options_.radius, m_.topo.edge_count > 0 ? 0.5 * edges / m_.topo.edge_count : 0.0);
+  lap(0);
   build_grid();
+  lap(1);
   build_border();
+  lap(2);
   // The pieces (faces joined through nodes), for keeping a loaded crack's piece to itself.
   std::vector<index_t> parent(nodes);
   for (index_t n = 0; n < nodes; ++n) parent[n] = n;
@@ -146,7 +166,12 @@ CrackField::CrackField(CrackMesh mesh, const TearingOptions& options) : m_(std::
     }
   node_piece_.resize(nodes);
   for (index_t n = 0; n < nodes; ++n) node_piece_[n] = find(n);
+  lap(3);
   mark_may_start();
+  lap(4);
+  if (timed)
+    std::fprintf(stderr, "view: %d faces: faces %.3f ms, grid %.3f, border %.3f, pieces %.3f, may start %.3f\n",
+                 static_cast<int>(faces), part_ms[0], part_ms[1], part_ms[2], part_ms[3], part_ms[4]);
 }
 
 CrackField::Vec3 CrackField::rest(index_t n) const {
@@ -156,23 +181,61 @@ CrackField::Vec3 CrackField::rest(index_t n) const {
 void CrackField::build_grid() {
   cell_ = radius_;
   const index_t faces = m_.topo.face_count;
+  // Each face's cell, then the faces by cell key and face: a counting sort over the box of cells
+  // the faces span where it is small (a cloth's rest shape, a few cells deep), a sort of the
+  // (key, face) pairs where not. The two give the same order: within 2^20 cells of the origin a
+  // key orders cells as their x, y, z do (the box's order, z fastest).
+  constexpr std::int64_t half = std::int64_t(1) << 20, mask = (std::int64_t(1) << 21) - 1;
+  std::vector<std::int64_t> at(3 * std::size_t(faces));
+#pragma omp parallel for schedule(static)
+  for (index_t f = 0; f < faces; ++f)
+    for (int a = 0; a < 3; ++a)
+      at[3 * std::size_t(f) + a] = static_cast<std::int64_t>(std::floor(face_centroid_[f][a] / cell_));
+  const auto key_of = [&](index_t f) {
+    std::int64_t key = 0;
+    for (int a = 0; a < 3; ++a) key = key * (mask + 1) + ((at[3 * std::size_t(f) + a] + half) & mask);
+    return key;
+  };
+  std::int64_t lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};
+  for (index_t f = 0; f < faces; ++f)
+    for (int a = 0; a < 3; ++a) {
+      const std::int64_t v = at[3 * std::size_t(f) + a];
+      lo[a] = f == 0 ? v : std::min(lo[a], v);
+      hi[a] = f == 0 ? v : std::max(hi[a], v);
+    }
+  cell_key_.resize(faces);
+  cell_face_.resize(faces);
+  bool small = true;
+  double cells = 1;
+  for (int a = 0; a < 3; ++a) {
+    small = small && lo[a] >= -half && hi[a] < half;
+    cells *= static_cast<double>(hi[a] - lo[a] + 1);
+  }
+  if (faces > 0 && small && cells <= 4.0 * faces + 4096) {
+    const std::int64_t ny = hi[1] - lo[1] + 1, nz = hi[2] - lo[2] + 1;
+    const auto cell_of = [&](index_t f) {
+      const std::int64_t* c = &at[3 * std::size_t(f)];
+      return ((c[0] - lo[0]) * ny + (c[1] - lo[1])) * nz + (c[2] - lo[2]);
+    };
+    std::vector<index_t> first(static_cast<std::size_t>(cells) + 1, 0);
+    for (index_t f = 0; f < faces; ++f) ++first[cell_of(f) + 1];
+    for (std::size_t c = 1; c < first.size(); ++c) first[c] += first[c - 1];
+    for (index_t f = 0; f < faces; ++f) {
+      const index_t i = first[cell_of(f)]++;
+      cell_key_[i] = key_of(f);
+      cell_face_[i] = f;
+    }
+    return;
+  }
   std::vector<std::pair<std::int64_t, index_t>> keyed(faces);
 #pragma omp parallel for schedule(static)
-  for (index_t f = 0; f < faces; ++f) {
-    std::int64_t key = 0;
-    for (int a = 0; a < 3; ++a)
-      key = key * (std::int64_t(1) << 21) + ((static_cast<std::int64_t>(std::floor(face_centroid_[f][a] / cell_)) +
-                                               (std::int64_t(1) << 20)) & ((std::int64_t(1) << 21) - 1));
-    keyed[f] = {key, f};
-  }
+  for (index_t f = 0; f < faces; ++f) keyed[f] = {key_of(f), f};
   // The pairs are distinct (one per face): any sort orders them the same way.
 #if defined(__GLIBCXX__) && defined(_OPENMP)
   __gnu_parallel::sort(keyed.begin(), keyed.end());
 #else
   std::sort(keyed.begin(), keyed.end());
 #endif
-  cell_key_.resize(faces);
-  cell_face_.resize(faces);
   for (index_t i = 0; i < faces; ++i) {
     cell_key_[i] = keyed[i].first;
     cell_face_[i] = keyed[i].second;
@@ -184,10 +247,15 @@ void CrackField::build_border() {
   border_next_.assign(nodes, -1);
   border_prev_.assign(nodes, -1);
   border_torn_.assign(nodes, 0);
+  // The corners whose opposite edge is on the border, found on the host's threads; then walked in
+  // face order, as one thread would.
+  std::vector<std::uint8_t> on_border(3 * std::size_t(faces));
+#pragma omp parallel for schedule(static)
+  for (index_t c = 0; c < 3 * faces; ++c) on_border[c] = m_.topo.edge_faces[2 * m_.topo.face_edges[c] + 1] < 0;
   for (index_t f = 0; f < faces; ++f)
     for (int k = 0; k < 3; ++k) {
+      if (!on_border[3 * std::size_t(f) + k]) continue;
       const index_t e = m_.topo.face_edges[3 * f + k];
-      if (m_.topo.edge_faces[2 * e + 1] >= 0) continue;
       const index_t a = m_.face_nodes[3 * f + (k + 1) % 3], b = m_.face_nodes[3 * f + (k + 2) % 3];
       border_next_[a] = b;
       border_prev_[b] = a;
@@ -196,17 +264,25 @@ void CrackField::build_border() {
     }
   std::sort(border_edges_.begin(), border_edges_.end());
   // The rest angle sums of the border nodes (a tip's passes 1.5π); the nodes inside need none.
+  // Each border node sums its corners over its faces in ascending order (the node's faces are
+  // listed so), as a walk over all faces in order would: the same sums.
   std::vector<double> node_angle(nodes, 0.0);
-  for (index_t f = 0; f < faces; ++f)
-    for (int k = 0; k < 3; ++k) {
-      const index_t n = m_.face_nodes[3 * f + k];
-      if (border_next_[n] < 0) continue;
-      const Vec3 X = rest(n);
-      const Vec3 a = sub(rest(m_.face_nodes[3 * f + (k + 1) % 3]), X);
-      const Vec3 b = sub(rest(m_.face_nodes[3 * f + (k + 2) % 3]), X);
-      const double c = dot(a, b) / std::max(norm(a) * norm(b), 1e-300);
-      node_angle[n] += std::acos(std::max(-1.0, std::min(1.0, c)));
+#pragma omp parallel for schedule(dynamic, 256)
+  for (index_t n = 0; n < nodes; ++n) {
+    if (border_next_[n] < 0) continue;
+    const Vec3 X = rest(n);
+    for (index_t i = m_.topo.node_face_offset[n]; i < m_.topo.node_face_offset[n + 1]; ++i) {
+      const index_t f = m_.topo.node_faces[i];
+      if (i > m_.topo.node_face_offset[n] && m_.topo.node_faces[i - 1] == f) continue;  // one face, two corners
+      for (int k = 0; k < 3; ++k) {
+        if (m_.face_nodes[3 * f + k] != n) continue;
+        const Vec3 a = sub(rest(m_.face_nodes[3 * f + (k + 1) % 3]), X);
+        const Vec3 b = sub(rest(m_.face_nodes[3 * f + (k + 2) % 3]), X);
+        const double c = dot(a, b) / std::max(norm(a) * norm(b), 1e-300);
+        node_angle[n] += std::acos(std::max(-1.0, std::min(1.0, c)));
+      }
     }
+  }
   for (index_t n = 0; n < nodes; ++n)
     if (border_next_[n] >= 0 && border_prev_[n] >= 0 && node_angle[n] > 1.5 * pi) tips_.push_back(n);
   // Seams: inner edges whose two faces give a shared node different UVs.
