@@ -4,8 +4,11 @@
 // at a neck, along the weft and along a weak seam, and stop where the stress is gone.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <cstdlib>
 #include <cstring>
 #include <numeric>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -17,6 +20,7 @@
 #include "tear/demo_scene.h"
 #include "tear/make_sheet.h"
 #include "tear/run_cuts.h"
+#include "tear/topology.h"
 #include "tear/validate_mesh.h"
 #include "tear_cracks.h"
 #include "test_support.h"
@@ -504,5 +508,67 @@ TEST_CASE("crack growth: the grid of faces by cell holds the (cell key, face) pa
     for (std::size_t i = 0; i < pairs.size(); ++i)
       same = same && probes.cell_key[i] == pairs[i].first && probes.cell_face[i] == pairs[i].second;
     CHECK(same);
+  }
+}
+
+TEST_CASE("crack growth: a node's piece is its piece's lowest node, as one thread's union finds it",
+          "[tearing][property]") {
+  // Jittered sheets of a few sizes, their nodes renumbered at random and some left unused, so the
+  // pieces' lowest nodes lie anywhere: the pieces the view finds on the host's threads against a
+  // union over the faces in order on one.
+  const std::uint64_t first = tear::test::test_seed(5100);
+  const bool one = std::getenv("TEAR_TEST_SEED") != nullptr;
+  for (std::uint64_t seed = first; seed < first + (one ? 1 : 12); ++seed) {
+    INFO("seed " << seed << " (TEAR_TEST_SEED=" << seed << " reruns it)");
+    std::mt19937_64 random(seed);
+    tear::Mesh mesh;
+    for (int part = 0; part < 3; ++part) {
+      tear::SheetOptions options;
+      options.face_count = 60 + 2 * static_cast<index_t>(random() % 200);  // even, as make_sheet needs
+      options.irregular = true;
+      options.seed = seed + static_cast<std::uint64_t>(part);
+      const tear::Mesh sheet_part = tear::make_sheet(options);
+      const index_t base = mesh.node_count();
+      for (std::size_t i = 0; i < sheet_part.node_pos.size(); ++i)
+        mesh.node_pos.push_back(sheet_part.node_pos[i] + (i % 3 == 0 ? 2.0f * part : 0.0f));
+      for (const index_t n : sheet_part.face_nodes) mesh.face_nodes.push_back(base + n);
+    }
+    // Unused nodes, then every node renumbered.
+    const index_t used = mesh.node_count();
+    for (int extra = 0; extra < 7; ++extra) mesh.node_pos.insert(mesh.node_pos.end(), {9.0f, 9.0f, float(extra)});
+    std::vector<index_t> order(static_cast<std::size_t>(mesh.node_count()));
+    std::iota(order.begin(), order.end(), 0);
+    std::shuffle(order.begin(), order.end(), random);
+    std::vector<float> moved(mesh.node_pos.size());
+    for (index_t n = 0; n < mesh.node_count(); ++n)
+      for (int d = 0; d < 3; ++d) moved[3 * order[n] + d] = mesh.node_pos[3 * n + d];
+    mesh.node_pos = moved;
+    for (index_t& n : mesh.face_nodes) n = order[n];
+    REQUIRE(used < mesh.node_count());
+    tear::CrackMesh crack;
+    crack.node_rest = mesh.node_pos;
+    crack.face_nodes = mesh.face_nodes;
+    crack.topo = tear::build_topology(mesh, tear::test::test_device());
+    tear::TearingOptions options;
+    options.stretch = 1.3;
+    const tear::CrackField field(crack, options);
+    std::vector<index_t> parent(static_cast<std::size_t>(mesh.node_count()));
+    std::iota(parent.begin(), parent.end(), 0);
+    const auto find = [&](index_t n) {
+      while (parent[n] != n) n = parent[n];
+      return n;
+    };
+    for (std::size_t c = 0; c < mesh.face_nodes.size(); c += 3)
+      for (int k = 1; k < 3; ++k) {
+        const index_t a = find(mesh.face_nodes[c]), b = find(mesh.face_nodes[c + k]);
+        parent[std::max(a, b)] = std::min(a, b);
+      }
+    std::vector<index_t> expected(parent.size());
+    for (index_t n = 0; n < mesh.node_count(); ++n) expected[n] = find(n);
+    CHECK(field.node_pieces() == expected);
+    // Three sheets, and each unused node a piece of its own.
+    std::vector<index_t> roots = expected;
+    std::sort(roots.begin(), roots.end());
+    CHECK(std::unique(roots.begin(), roots.end()) - roots.begin() == 3 + 7);
   }
 }

@@ -2,6 +2,7 @@
 // stretch tensors, the grid of faces by disc-sized cell, the smoothed tensor, the border walked
 // both ways with its torn edges and seams, the nearest border point and the piece a cut would leave.
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdint>
@@ -9,6 +10,7 @@
 #include <cstdlib>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 #if defined(__GLIBCXX__) && defined(_OPENMP)
 #include <parallel/algorithm>
@@ -123,7 +125,7 @@ CrackField::CrackField(CrackMesh mesh, const TearingOptions& options) : m_(std::
     part_ms[part] = std::chrono::duration<double, std::milli>(now - mark).count();
     mark = now;
   };
-  const index_t faces = m_.topo.face_count, nodes = m_.topo.node_count;
+  const index_t faces = m_.topo.face_count;
   face_centroid_.resize(faces);
   face_normal_.resize(faces);
   face_area_.resize(faces);
@@ -152,26 +154,49 @@ CrackField::CrackField(CrackMesh mesh, const TearingOptions& options) : m_(std::
   lap(1);
   build_border();
   lap(2);
-  // The pieces (faces joined through nodes), for keeping a loaded crack's piece to itself.
-  std::vector<index_t> parent(nodes);
-  for (index_t n = 0; n < nodes; ++n) parent[n] = n;
-  const auto find = [&](index_t n) {
-    while (parent[n] != n) n = parent[n] = parent[parent[n]];
-    return n;
-  };
-  for (index_t f = 0; f < faces; ++f)
-    for (int k = 1; k < 3; ++k) {
-      const index_t a = find(m_.face_nodes[3 * f]), b = find(m_.face_nodes[3 * f + k]);
-      if (a != b) parent[std::max(a, b)] = std::min(a, b);
-    }
-  node_piece_.resize(nodes);
-  for (index_t n = 0; n < nodes; ++n) node_piece_[n] = find(n);
+  build_pieces();
   lap(3);
   mark_may_start();
   lap(4);
   if (timed)
     std::fprintf(stderr, "view: %d faces: faces %.3f ms, grid %.3f, border %.3f, pieces %.3f, may start %.3f\n",
                  static_cast<int>(faces), part_ms[0], part_ms[1], part_ms[2], part_ms[3], part_ms[4]);
+}
+
+void CrackField::build_pieces() {
+  // The pieces (faces joined through nodes), for keeping a loaded crack's piece to itself: a
+  // union of the faces' nodes on the host's threads, each union hooking the larger root under the
+  // smaller by compare-and-swap (a root is hooked only while it is one), so whatever the order each
+  // piece's root is its lowest node, as one thread would find it.
+  const index_t nodes = m_.topo.node_count, faces = m_.topo.face_count;
+  std::vector<std::atomic<index_t>> parent(static_cast<std::size_t>(nodes));
+#pragma omp parallel for schedule(static)
+  for (index_t n = 0; n < nodes; ++n) parent[n].store(n, std::memory_order_relaxed);
+  const auto find = [&](index_t n) {
+    for (;;) {
+      index_t p = parent[n].load(std::memory_order_relaxed);
+      if (p == n) return n;
+      const index_t q = parent[p].load(std::memory_order_relaxed);
+      if (q != p) parent[n].compare_exchange_weak(p, q, std::memory_order_relaxed);  // halve the path
+      n = q;
+    }
+  };
+#pragma omp parallel for schedule(static)
+  for (index_t f = 0; f < faces; ++f)
+    for (int k = 1; k < 3; ++k) {
+      index_t a = m_.face_nodes[3 * f], b = m_.face_nodes[3 * f + k];
+      for (;;) {
+        a = find(a);
+        b = find(b);
+        if (a == b) break;
+        if (a > b) std::swap(a, b);
+        index_t root = b;
+        if (parent[b].compare_exchange_strong(root, a, std::memory_order_relaxed)) break;
+      }
+    }
+  node_piece_.resize(nodes);
+#pragma omp parallel for schedule(static)
+  for (index_t n = 0; n < nodes; ++n) node_piece_[n] = find(n);
 }
 
 CrackField::Vec3 CrackField::rest(index_t n) const {

@@ -95,6 +95,8 @@ class CrackField {
   bool may_cut(const CrackProbes& probes, const std::vector<double>& sums, double start_ratio) const;
   /// The crack tips: border nodes whose rest angle sum passes 1.5π.
   const std::vector<index_t>& tips() const { return tips_; }
+  /// Each node's piece (faces joined through nodes): the piece's lowest node. For the tests.
+  const std::vector<index_t>& node_pieces() const { return node_piece_; }
 
  private:
   struct Tip;
@@ -104,6 +106,7 @@ class CrackField {
   /// direction; false when the slit gives no direction.
   bool make_tip(index_t n, Tip& tip) const;
   void build_grid();
+  void build_pieces();
   void build_border();
   template <class F>
   void faces_near(const Vec3& p, double r, F&& f) const;
