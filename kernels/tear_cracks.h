@@ -203,6 +203,15 @@ struct FaceGrid {
   const index_t* faces;
   index_t count;
   double cell;
+
+  /// A cell coordinate as the key holds it: 21 bits, offset by 2^20 (wrapping beyond that).
+  static TEAR_HD std::int64_t wrap(std::int64_t v) {
+    return (v + (std::int64_t(1) << 20)) & ((std::int64_t(1) << 21) - 1);
+  }
+  /// The key of cell (x, y, z): x, y and z wrapped, z in the low bits.
+  static TEAR_HD std::int64_t key(std::int64_t x, std::int64_t y, std::int64_t z) {
+    return (wrap(x) << 42) + (wrap(y) << 21) + wrap(z);
+  }
 };
 
 /// Face f's rest centroid, as crack growth computes it.
@@ -265,9 +274,7 @@ struct StartDisc {
   std::int64_t lo[3], hi[3];
   bool column;
 
-  static TEAR_HD std::int64_t wrap(std::int64_t v) {
-    return (v + (std::int64_t(1) << 20)) & ((std::int64_t(1) << 21) - 1);
-  }
+  static TEAR_HD std::int64_t wrap(std::int64_t v) { return FaceGrid::wrap(v); }
   /// False where face f has no area (no plane).
   TEAR_HD bool make(const index_t* face_nodes, const float* node_rest, const double* centroids, const FaceGrid& grid,
                     double radius, index_t f) {
@@ -297,9 +304,8 @@ struct StartDisc {
   TEAR_HD index_t range(const FaceGrid& grid, int r, std::int64_t& last_key) const {
     const std::int64_t nz = column ? 1 : hi[2] - lo[2] + 1, ny = hi[1] - lo[1] + 1;
     const std::int64_t x = lo[0] + r / (ny * nz), y = lo[1] + (r / nz) % ny, z = lo[2] + r % nz;
-    const std::int64_t base = (wrap(x) << 42) + (wrap(y) << 21);
-    const std::int64_t key = base + wrap(z);
-    last_key = column ? base + wrap(hi[2]) : key;
+    const std::int64_t key = FaceGrid::key(x, y, z);
+    last_key = column ? FaceGrid::key(x, y, hi[2]) : key;
     index_t first = 0, last = grid.count;  // lower bound of key
     while (first < last) {
       const index_t mid = first + (last - first) / 2;

@@ -377,8 +377,7 @@ class StepJob {
         // A warp a face (kernels::start_ratio_by_warp): its disc's entries shared by 32 lanes.
         resize_for_overwrite(values_, faces);
         for_each_index<System>(32 * faces, kernels::start_ratio_by_warp{ratio, raw<double>(values_)});
-        start =
-            thrust::reduce(Traits<System>::policy(), values_.begin(), values_.end(), 0.0, thrust::maximum<double>());
+        start = largest_stored();
       } else {
         start = largest_of(faces, ratio);
       }
@@ -398,7 +397,28 @@ class StepJob {
   double largest_of(index_t count, const F& f) {
     resize_for_overwrite(values_, count);
     for_each_index<System>(count, kernels::store_value<F>{f, raw<double>(values_)});
+    return largest_stored();
+  }
+  /// The largest of `values_` and 0.
+  double largest_stored() {
     return thrust::reduce(Traits<System>::policy(), values_.begin(), values_.end(), 0.0, thrust::maximum<double>());
+  }
+
+  /// Where a backend array's copy lies in `read_`'s batch.
+  struct Part {
+    std::size_t offset, count;
+  };
+  /// Queues the copy of backend vector `v` into `read_`'s batch.
+  template <class V>
+  Part queue_read(const V& v) {
+    using T = typename V::value_type;
+    return Part{read_.template queue<T>(raw<T>(v), v.size()), v.size()};
+  }
+  /// After `read_.wait()`: the copy queued as `part` into host vector `out`.
+  template <class T>
+  void take_read(const Part& part, std::vector<T>& out) const {
+    const T* from = read_.template at<T>(part.offset);
+    out.assign(from, from + part.count);
   }
 
   /// What crack growth reads of the cloth, on the host: its arrays queued into one read-back
@@ -407,9 +427,6 @@ class StepJob {
   /// seams need them; which corners' edges are torn marked on the backend, where the origins they
   /// are told from already are.
   CrackMesh crack_mesh(const DeviceCloth<System>& c) {
-    struct Part {
-      std::size_t offset, count;
-    };
     const index_t faces = c.topo.face_count;
     resize_for_overwrite(corner_torn_, 3 * std::size_t(faces));
     for_each_index<System>(
@@ -417,48 +434,40 @@ class StepJob {
                                               raw<index_t>(c.face_origin), raw<float>(c.corner_origin),
                                               raw<std::uint8_t>(c.input_face_border), raw<std::uint8_t>(corner_torn_)});
     read_.clear();
-    const auto queue = [&](const auto& v) {
-      using T = typename std::decay_t<decltype(v)>::value_type;
-      return Part{read_.template queue<T>(raw<T>(v), v.size()), v.size()};
-    };
-    const auto take = [&](const Part& part, auto& out) {
-      using T = typename std::decay_t<decltype(out)>::value_type;
-      const T* from = read_.template at<T>(part.offset);
-      out.assign(from, from + part.count);
-    };
     const TearingOptions& o = options_.tearing;
     const bool uv_needed = o.has_weave || o.seam_strength != 1;
-    const Part rest = queue(c.node_rest), face_nodes = queue(c.face_nodes),
-               uv = uv_needed ? queue(c.corner_uv) : Part{0, 0}, strength = queue(c.face_strength),
-               edge_nodes = queue(c.topo.edge_nodes), edge_faces = queue(c.topo.edge_faces),
-               face_edges = queue(c.topo.face_edges), node_face_offset = queue(c.topo.node_face_offset),
-               node_faces = queue(c.topo.node_faces), torn = queue(corner_torn_);
+    const Part rest = queue_read(c.node_rest), face_nodes = queue_read(c.face_nodes),
+               uv = uv_needed ? queue_read(c.corner_uv) : Part{0, 0}, strength = queue_read(c.face_strength),
+               edge_nodes = queue_read(c.topo.edge_nodes), edge_faces = queue_read(c.topo.edge_faces),
+               face_edges = queue_read(c.topo.face_edges), node_face_offset = queue_read(c.topo.node_face_offset),
+               node_faces = queue_read(c.topo.node_faces), torn = queue_read(corner_torn_);
     read_.wait();
     CrackMesh mesh;
-    take(rest, mesh.node_rest);
-    take(face_nodes, mesh.face_nodes);
-    take(uv, mesh.corner_uv);
-    take(strength, mesh.face_strength);
-    take(torn, mesh.corner_torn);
+    take_read(rest, mesh.node_rest);
+    take_read(face_nodes, mesh.face_nodes);
+    take_read(uv, mesh.corner_uv);
+    take_read(strength, mesh.face_strength);
+    take_read(torn, mesh.corner_torn);
     Topology& t = mesh.topo;
     t.node_count = c.topo.node_count;
     t.face_count = faces;
     t.edge_count = c.topo.edge_count;
-    take(edge_nodes, t.edge_nodes);
-    take(edge_faces, t.edge_faces);
-    take(face_edges, t.face_edges);
-    take(node_face_offset, t.node_face_offset);
-    take(node_faces, t.node_faces);
+    take_read(edge_nodes, t.edge_nodes);
+    take_read(edge_faces, t.edge_faces);
+    take_read(face_edges, t.face_edges);
+    take_read(node_face_offset, t.node_face_offset);
+    take_read(node_faces, t.node_faces);
     return mesh;
   }
 
   /// The cloth's positions on the host, through the same page-locked read-back.
   std::vector<float> positions(const DeviceCloth<System>& c) {
     read_.clear();
-    const std::size_t at = read_.template queue<float>(raw<float>(c.node_pos), c.node_pos.size());
+    const Part part = queue_read(c.node_pos);
     read_.wait();
-    const float* from = read_.template at<float>(at);
-    return std::vector<float>(from, from + c.node_pos.size());
+    std::vector<float> out;
+    take_read(part, out);
+    return out;
   }
 
   SimulationOptions options_;

@@ -210,24 +210,25 @@ void CrackField::build_grid() {
   // the faces span where it is small (a cloth's rest shape, a few cells deep), a sort of the
   // (key, face) pairs where not. The two give the same order: within 2^20 cells of the origin a
   // key orders cells as their x, y, z do (the box's order, z fastest).
-  constexpr std::int64_t half = std::int64_t(1) << 20, mask = (std::int64_t(1) << 21) - 1;
+  constexpr std::int64_t half = std::int64_t(1) << 20;
   std::vector<std::int64_t> at(3 * std::size_t(faces));
 #pragma omp parallel for schedule(static)
   for (index_t f = 0; f < faces; ++f)
     for (int a = 0; a < 3; ++a)
       at[3 * std::size_t(f) + a] = static_cast<std::int64_t>(std::floor(face_centroid_[f][a] / cell_));
   const auto key_of = [&](index_t f) {
-    std::int64_t key = 0;
-    for (int a = 0; a < 3; ++a) key = key * (mask + 1) + ((at[3 * std::size_t(f) + a] + half) & mask);
-    return key;
+    const std::int64_t* c = &at[3 * std::size_t(f)];
+    return kernels::FaceGrid::key(c[0], c[1], c[2]);
   };
-  std::int64_t lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};
-  for (index_t f = 0; f < faces; ++f)
-    for (int a = 0; a < 3; ++a) {
-      const std::int64_t v = at[3 * std::size_t(f) + a];
-      lo[a] = f == 0 ? v : std::min(lo[a], v);
-      hi[a] = f == 0 ? v : std::max(hi[a], v);
-    }
+  std::int64_t lo[3], hi[3];
+  for (int a = 0; a < 3; ++a) {
+    lo[a] = std::numeric_limits<std::int64_t>::max();
+    hi[a] = std::numeric_limits<std::int64_t>::min();
+  }
+  for (std::size_t i = 0; i < at.size(); ++i) {
+    lo[i % 3] = std::min(lo[i % 3], at[i]);
+    hi[i % 3] = std::max(hi[i % 3], at[i]);
+  }
   cell_key_.resize(faces);
   cell_face_.resize(faces);
   bool small = true;
