@@ -16,7 +16,9 @@
 // geometry of the substep's start x0: `strain_rate_passes` Jacobi passes over the nodes, each node
 // summing over its faces (in its face order: the same bits every run, no atomics) its share of each
 // altitude's excess, mass-free (a pinned node takes none), and moving by the mean of those shares;
-// then x = x0 + h v and the node's velocity changes by as much as v did.
+// then x = x0 + h v and the node's velocity changes by as much as v did. A face already folded over
+// at the substep's start is left free, so that it can turn back: its altitude must pass through
+// zero to do so.
 //
 // Example: the face (0, 0, 0) (0.02, 0, 0) (0.01, 0.001, 0), its apex falling at 0.5 m/s towards the
 // opposite edge over a substep of h = 1/96 s, limit 0.1: the altitude's bound is 0.1 × 0.001 × 96 =
@@ -31,8 +33,9 @@
 
 namespace tear::kernels {
 
-/// Passes of `limit_strain_rate` per substep.
-inline constexpr int strain_rate_passes = 4;
+/// Passes of `limit_strain_rate` per substep: the mean of a node's shares under-corrects where its
+/// faces share an excess, and a row of thin faces pushed by a recoil needs more than four.
+inline constexpr int strain_rate_passes = 16;
 static_assert(strain_rate_passes >= 2, "the first pass reads the positions the last one writes");
 
 /// One pass at node n. The first reads the mean velocities from the positions (`vel_in` null); the
@@ -89,6 +92,25 @@ struct limit_strain_rate {
 #endif
   }
 
+  /// Whether face f (its corners at x0, `x`) is folded over at the substep's start: its normal
+  /// against the summed normals of the other faces at its corners. A face folded over is left free,
+  /// so that it can turn back: its altitude must pass through zero to do so.
+  TEAR_HD bool folded_at_start(index_t f, const Vec3f* x) const {
+    const Vec3f own = cross(x[1] - x[0], x[2] - x[0]);
+    Vec3f around{0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+      const index_t c = face_nodes[3 * f + k];
+      for (index_t i = node_face_offset[c]; i < node_face_offset[c + 1]; ++i) {
+        const index_t g = node_faces[i];
+        if (g == f) continue;
+        const Vec3f y0 = load3<float>(node_start, face_nodes[3 * g]);
+        around = around + cross(load3<float>(node_start, face_nodes[3 * g + 1]) - y0,
+                                load3<float>(node_start, face_nodes[3 * g + 2]) - y0);
+      }
+    }
+    return dot(own, around) < 0.0f;
+  }
+
   /// Node n's shares of face f's three altitudes over their bounds. The altitude of corner a over
   /// the line of b-c, at the foot b + t (c - b), changes at g · u along the unit normal from the line
   /// to a, with g = (1, -(1 - t), -t) for (a, b, c); the correction moves each node along g_k λ,
@@ -104,6 +126,7 @@ struct limit_strain_rate {
       w[k] = node_pinned[c] ? 0.0f : 1.0f;
       if (c == n) me = k;
     }
+    int folded = -1;  // looked at once, where an altitude passes its bound
     for (int a = 0; a < 3; ++a) {
       const int b = (a + 1) % 3, c = (a + 2) % 3;
       const Vec3f base = x[c] - x[b];
@@ -122,6 +145,8 @@ struct limit_strain_rate {
       const float growing = g[0] * dot(u[0], normal) + g[1] * dot(u[1], normal) + g[2] * dot(u[2], normal);
       const float bound = rate * height;
       if (!(growing < -bound)) continue;
+      if (folded < 0) folded = folded_at_start(f, x) ? 1 : 0;
+      if (folded) return;
       const float weight = w[0] * g[0] * g[0] + w[1] * g[1] * g[1] + w[2] * g[2] * g[2];
       if (!(weight > 0.0f)) continue;
       sum = sum + (w[me] * g[me] * ((-bound - growing) / weight)) * normal;
