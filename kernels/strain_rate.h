@@ -92,23 +92,23 @@ struct limit_strain_rate {
 #endif
   }
 
-  /// Whether face f (its corners at x0, `x`) is folded over at the substep's start: its normal
-  /// against the summed normals of the other faces at its corners. A face folded over is left free,
-  /// so that it can turn back: its altitude must pass through zero to do so.
-  TEAR_HD bool folded_at_start(index_t f, const Vec3f* x) const {
-    const Vec3f own = cross(x[1] - x[0], x[2] - x[0]);
+  /// Face g's normal at the substep's start (the cross product of its edges, not unit).
+  TEAR_HD Vec3f start_normal(index_t g) const {
+    const Vec3f y0 = load3<float>(node_start, face_nodes[3 * g]);
+    return cross(load3<float>(node_start, face_nodes[3 * g + 1]) - y0,
+                 load3<float>(node_start, face_nodes[3 * g + 2]) - y0);
+  }
+  /// Whether face f is folded over at the substep's start: its normal against the summed normals of
+  /// the other faces at its corners. A face folded over is left free, so that it can turn back: its
+  /// altitude must pass through zero to do so.
+  TEAR_HD bool folded_at_start(index_t f) const {
     Vec3f around{0, 0, 0};
     for (int k = 0; k < 3; ++k) {
       const index_t c = face_nodes[3 * f + k];
-      for (index_t i = node_face_offset[c]; i < node_face_offset[c + 1]; ++i) {
-        const index_t g = node_faces[i];
-        if (g == f) continue;
-        const Vec3f y0 = load3<float>(node_start, face_nodes[3 * g]);
-        around = around + cross(load3<float>(node_start, face_nodes[3 * g + 1]) - y0,
-                                load3<float>(node_start, face_nodes[3 * g + 2]) - y0);
-      }
+      for (index_t i = node_face_offset[c]; i < node_face_offset[c + 1]; ++i)
+        if (node_faces[i] != f) around = around + start_normal(node_faces[i]);
     }
-    return dot(own, around) < 0.0f;
+    return dot(start_normal(f), around) < 0.0f;
   }
 
   /// Node n's shares of face f's three altitudes over their bounds. The altitude of corner a over
@@ -145,7 +145,7 @@ struct limit_strain_rate {
       const float growing = g[0] * dot(u[0], normal) + g[1] * dot(u[1], normal) + g[2] * dot(u[2], normal);
       const float bound = rate * height;
       if (!(growing < -bound)) continue;
-      if (folded < 0) folded = folded_at_start(f, x) ? 1 : 0;
+      if (folded < 0) folded = folded_at_start(f) ? 1 : 0;
       if (folded) return;
       const float weight = w[0] * g[0] * g[0] + w[1] * g[1] * g[1] + w[2] * g[2] * g[2];
       if (!(weight > 0.0f)) continue;

@@ -274,7 +274,6 @@ struct StartDisc {
   std::int64_t lo[3], hi[3];
   bool column;
 
-  static TEAR_HD std::int64_t wrap(std::int64_t v) { return FaceGrid::wrap(v); }
   /// False where face f has no area (no plane).
   TEAR_HD bool make(const index_t* face_nodes, const float* node_rest, const double* centroids, const FaceGrid& grid,
                     double radius, index_t f) {
@@ -294,7 +293,7 @@ struct StartDisc {
       lo[a] = static_cast<std::int64_t>(floor((c[a] - radius) / grid.cell));
       hi[a] = static_cast<std::int64_t>(floor((c[a] + radius) / grid.cell));
     }
-    column = wrap(lo[2]) <= wrap(hi[2]) && hi[2] - lo[2] < (std::int64_t(1) << 21);
+    column = FaceGrid::wrap(lo[2]) <= FaceGrid::wrap(hi[2]) && hi[2] - lo[2] < (std::int64_t(1) << 21);
     return true;
   }
   TEAR_HD int ranges() const {
