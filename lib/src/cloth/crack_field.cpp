@@ -359,13 +359,15 @@ std::vector<index_t> CrackField::disc(const Vec3& p) const {
   return faces;
 }
 
-void CrackField::smoothed(const Vec3& p, const std::vector<double>& T, double* S, double* strength) const {
+template <class Get>
+void CrackField::smoothed_by(const Vec3& p, const Get& tensor_of, double* S, double* strength) const {
   double area = 0, s = 0, sum[6] = {0, 0, 0, 0, 0, 0};
   for (const index_t f : disc(p)) {
     const double A = face_area_[f];
     area += A;
     s += A * (m_.face_strength.empty() ? 1.0 : m_.face_strength[f]);
-    for (int k = 0; k < 6; ++k) sum[k] += A * T[6 * std::size_t(f) + k];
+    const double* t = tensor_of(f);
+    for (int k = 0; k < 6; ++k) sum[k] += A * t[k];
   }
   if (area > 0) {
     for (int k = 0; k < 6; ++k) S[k] = sum[k] / area;
@@ -374,6 +376,33 @@ void CrackField::smoothed(const Vec3& p, const std::vector<double>& T, double* S
   }
   for (int k = 0; k < 6; ++k) S[k] = 0;
   *strength = 1;
+}
+
+void CrackField::smoothed(const Vec3& p, const std::vector<double>& T, double* S, double* strength) const {
+  smoothed_by(
+      p, [&T](index_t f) { return &T[6 * std::size_t(f)]; }, S, strength);
+}
+
+void CrackField::smoothed(const Vec3& p, const FaceTensors& T, double* S, double* strength) const {
+  smoothed_by(p, T, S, strength);
+}
+
+CrackField::FaceTensors::FaceTensors(const CrackMesh& mesh, const std::vector<float>& node_pos)
+    : m_(mesh),
+      pos_(node_pos),
+      values_(new double[6 * std::size_t(mesh.topo.face_count)]),
+      ready_(static_cast<std::size_t>(mesh.topo.face_count), 0) {}
+
+void CrackField::FaceTensors::compute(index_t f) const {
+  kernels::face_stretch_tensor(m_.face_nodes.data(), m_.node_rest.data(), pos_.data(), f, &values_[6 * std::size_t(f)]);
+  ready_[f] = 1;
+}
+
+void CrackField::FaceTensors::compute_all() const {
+  const index_t faces = m_.topo.face_count;
+#pragma omp parallel for schedule(static)
+  for (index_t f = 0; f < faces; ++f)
+    if (!ready_[f]) compute(f);
 }
 
 CrackField::Vec3 CrackField::thread_direction(index_t f, double du, double dv) const {

@@ -67,7 +67,7 @@ double CrackField::choose_direction(const Tip& tip, const double* S, double limi
   return best;
 }
 
-bool CrackField::advance(const Tip& tip, const std::vector<double>& T, std::vector<Vec3>& path, bool& joined,
+bool CrackField::advance(const Tip& tip, const FaceTensors& T, std::vector<Vec3>& path, bool& joined,
                          double& ratio) const {
   // The disc lies ahead of the tip, where the crack would run: centred on the tip it would average
   // in the unloaded flanks of its own slit.
@@ -159,7 +159,7 @@ std::vector<index_t> CrackField::start_candidates(const std::vector<double>& str
   return kept;
 }
 
-bool CrackField::seam_start(const std::vector<double>& T, const std::vector<index_t>& loaded, double& best,
+bool CrackField::seam_start(const FaceTensors& T, const std::vector<index_t>& loaded, double& best,
                             std::vector<Vec3>& path) const {
   // A seam that reaches the border opens from there, inwards along its edge, at its own limit.
   index_t seam_node = -1, seam_other = -1;
@@ -188,8 +188,8 @@ bool CrackField::seam_start(const std::vector<double>& T, const std::vector<inde
   return true;
 }
 
-bool CrackField::start(const std::vector<double>& T, const std::vector<double>& stretch,
-                       const std::vector<index_t>& loaded, std::vector<Vec3>& path) const {
+bool CrackField::start(const FaceTensors& T, const std::vector<double>& stretch, const std::vector<index_t>& loaded,
+                       std::vector<Vec3>& path) const {
   double best = 1;
   index_t chosen = -1;
   Vec3 across{0, 0, 0};
@@ -278,7 +278,7 @@ bool CrackField::make_tip(index_t n, Tip& out) const {
 }
 
 double CrackField::largest_tip_ratio(const std::vector<float>& node_pos) const {
-  const std::vector<double> T = face_tensors(node_pos);
+  const FaceTensors T(m_, node_pos);
   double largest = 0;
   for (index_t n : tips_) {
     Tip tip;
@@ -384,7 +384,7 @@ bool CrackField::may_cut(const CrackProbes& probes, const std::vector<double>& s
 
 CrackPlan CrackField::plan(const std::vector<float>& node_pos) const {
   CrackPlan plan;
-  const std::vector<double> T = face_tensors(node_pos);
+  const FaceTensors T(m_, node_pos);
   std::vector<std::vector<Vec3>> paths;
   std::vector<index_t> loaded;  // pieces with a tip free to run that bears most of its limit
   for (index_t n : tips_) {
@@ -409,14 +409,18 @@ CrackPlan CrackField::plan(const std::vector<float>& node_pos) const {
     // A new crack only in a piece whose cracks bear little load: a loaded crack runs through its
     // piece and takes the load off it; a second crack there would break it twice, or cut a sliver
     // between the two.
-    std::vector<double> stretch(m_.topo.face_count);
+    // Only where no tip moves: every face's stretch, for the candidates.
+    if (paths.empty()) {
+      T.compute_all();
+      std::vector<double> stretch(m_.topo.face_count);
 #pragma omp parallel for schedule(static)
-    for (index_t f = 0; f < m_.topo.face_count; ++f) {
-      Vec3 r;
-      stretch[f] = std::sqrt(std::max(principal(&T[6 * std::size_t(f)], face_normal_[f], r), 0.0));
+      for (index_t f = 0; f < m_.topo.face_count; ++f) {
+        Vec3 r;
+        stretch[f] = std::sqrt(std::max(principal(T(f), face_normal_[f], r), 0.0));
+      }
+      std::vector<Vec3> path;
+      if (start(T, stretch, loaded, path)) paths.push_back(std::move(path));
     }
-    std::vector<Vec3> path;
-    if (paths.empty() && start(T, stretch, loaded, path)) paths.push_back(std::move(path));
   }
   for (const auto& path : paths) {
     // A straight rest-space cut in the plane of its start, projected along that plane's normal.

@@ -19,6 +19,7 @@
 
 #include <array>
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -81,6 +82,28 @@ class CrackField {
   /// symmetric as xx yy zz xy xz yz), and the mean strength there. Public for the tests.
   void smoothed(const std::array<double, 3>& p, const std::vector<double>& face_tensor, double* tensor,
                 double* strength) const;
+  /// One plan's faces' stretch tensors (`face_tensors`' values), each computed where first read: a
+  /// tip's advance reads one disc's faces, and only a crack's start reads them all.
+  class FaceTensors {
+   public:
+    FaceTensors(const CrackMesh& mesh, const std::vector<float>& node_pos);
+    /// Face f's 6 values.
+    const double* operator()(index_t f) const {
+      if (!ready_[f]) compute(f);
+      return &values_[6 * std::size_t(f)];
+    }
+    /// Every face's, on the host's threads.
+    void compute_all() const;
+
+   private:
+    void compute(index_t f) const;
+    const CrackMesh& m_;
+    const std::vector<float>& pos_;
+    std::unique_ptr<double[]> values_;  // written where `ready_`: a face's page is touched when read
+    mutable std::vector<std::uint8_t> ready_;
+  };
+  /// `smoothed` from one plan's tensors.
+  void smoothed(const std::array<double, 3>& p, const FaceTensors& tensors, double* tensor, double* strength) const;
   /// Per face: its stretch tensor in rest coordinates (6 values), for `smoothed`.
   std::vector<double> face_tensors(const std::vector<float>& node_pos) const;
   /// The largest opening stretch over its limit of any tip (1: at its limit), for the tests.
@@ -110,10 +133,12 @@ class CrackField {
   void build_border();
   template <class F>
   void faces_near(const Vec3& p, double r, F&& f) const;
+  /// `smoothed` with each face's tensor from `tensor_of(f)` (a pointer to its 6 values).
+  template <class Get>
+  void smoothed_by(const Vec3& p, const Get& tensor_of, double* tensor, double* strength) const;
   /// The path of `tip`'s advance this substep, if it advances; `ratio` its opening stretch over its
   /// limit (0 when it is held back by `min_piece`).
-  bool advance(const Tip& tip, const std::vector<double>& tensors, std::vector<Vec3>& path, bool& joined,
-               double& ratio) const;
+  bool advance(const Tip& tip, const FaceTensors& tensors, std::vector<Vec3>& path, bool& joined, double& ratio) const;
   /// The direction a tip runs in (across the smoothed stretch, along a thread or a seam) and its
   /// opening stretch over its limit; `seam_path` the seam edge it runs along, if it does.
   double choose_direction(const Tip& tip, const double* S, double limit, Vec3& d, std::vector<Vec3>& seam_path) const;
@@ -124,10 +149,10 @@ class CrackField {
   /// The faces that may start a crack: over `start`, not in a loaded piece, one per grid cell.
   std::vector<index_t> start_candidates(const std::vector<double>& stretch, const std::vector<index_t>& loaded) const;
   /// A seam reaching the border that opens there, if it passes `best`.
-  bool seam_start(const std::vector<double>& tensors, const std::vector<index_t>& loaded, double& best,
+  bool seam_start(const FaceTensors& tensors, const std::vector<index_t>& loaded, double& best,
                   std::vector<Vec3>& path) const;
   /// The path of a new crack, if one starts: not in the pieces `loaded` (sorted) whose tips bear load.
-  bool start(const std::vector<double>& tensors, const std::vector<double>& stretch, const std::vector<index_t>& loaded,
+  bool start(const FaceTensors& tensors, const std::vector<double>& stretch, const std::vector<index_t>& loaded,
              std::vector<Vec3>& path) const;
   /// The nearest point of a border edge not within `exclude_walk` of node `from` along the border,
   /// ahead of `p` along `d` (or anywhere with `d` null), within `reach`; false when none.
