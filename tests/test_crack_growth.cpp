@@ -55,7 +55,7 @@ TEST_CASE("crack growth: a slit's end is its one tip, and a uniform stretch smoo
   // Stretched by 1.2 along x: the smoothed tensor is diag(1.44, 1, 0) anywhere.
   std::vector<float> pos = mesh.node_rest;
   for (std::size_t n = 0; n < pos.size(); n += 3) pos[n] *= 1.2f;
-  const std::vector<double> T = field.face_tensors(pos);
+  const tear::CrackField::FaceTensors T = field.face_tensors(pos);
   double S[6], strength = 0;
   field.smoothed({0.3, 0.6, 0}, T, S, &strength);
   CHECK(S[0] == Approx(1.44).epsilon(1e-4));

@@ -334,15 +334,6 @@ void CrackField::build_border() {
   }
 }
 
-std::vector<double> CrackField::face_tensors(const std::vector<float>& node_pos) const {
-  const index_t faces = m_.topo.face_count;
-  std::vector<double> T(6 * std::size_t(faces), 0.0);
-#pragma omp parallel for schedule(static)
-  for (index_t f = 0; f < faces; ++f)
-    kernels::face_stretch_tensor(m_.face_nodes.data(), m_.node_rest.data(), node_pos.data(), f, &T[6 * std::size_t(f)]);
-  return T;
-}
-
 std::vector<index_t> CrackField::disc(const Vec3& p) const {
   std::vector<index_t> faces;
   double r = radius_;
@@ -359,14 +350,13 @@ std::vector<index_t> CrackField::disc(const Vec3& p) const {
   return faces;
 }
 
-template <class Get>
-void CrackField::smoothed_by(const Vec3& p, const Get& tensor_of, double* S, double* strength) const {
+void CrackField::smoothed(const Vec3& p, const FaceTensors& T, double* S, double* strength) const {
   double area = 0, s = 0, sum[6] = {0, 0, 0, 0, 0, 0};
   for (const index_t f : disc(p)) {
     const double A = face_area_[f];
     area += A;
     s += A * (m_.face_strength.empty() ? 1.0 : m_.face_strength[f]);
-    const double* t = tensor_of(f);
+    const double* t = T(f);
     for (int k = 0; k < 6; ++k) sum[k] += A * t[k];
   }
   if (area > 0) {
@@ -376,15 +366,6 @@ void CrackField::smoothed_by(const Vec3& p, const Get& tensor_of, double* S, dou
   }
   for (int k = 0; k < 6; ++k) S[k] = 0;
   *strength = 1;
-}
-
-void CrackField::smoothed(const Vec3& p, const std::vector<double>& T, double* S, double* strength) const {
-  smoothed_by(
-      p, [&T](index_t f) { return &T[6 * std::size_t(f)]; }, S, strength);
-}
-
-void CrackField::smoothed(const Vec3& p, const FaceTensors& T, double* S, double* strength) const {
-  smoothed_by(p, T, S, strength);
 }
 
 CrackField::FaceTensors::FaceTensors(const CrackMesh& mesh, const std::vector<float>& node_pos)

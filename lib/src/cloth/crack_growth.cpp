@@ -278,7 +278,7 @@ bool CrackField::make_tip(index_t n, Tip& out) const {
 }
 
 double CrackField::largest_tip_ratio(const std::vector<float>& node_pos) const {
-  const FaceTensors T(m_, node_pos);
+  const FaceTensors T = face_tensors(node_pos);
   double largest = 0;
   for (index_t n : tips_) {
     Tip tip;
@@ -384,7 +384,7 @@ bool CrackField::may_cut(const CrackProbes& probes, const std::vector<double>& s
 
 CrackPlan CrackField::plan(const std::vector<float>& node_pos) const {
   CrackPlan plan;
-  const FaceTensors T(m_, node_pos);
+  const FaceTensors T = face_tensors(node_pos);
   std::vector<std::vector<Vec3>> paths;
   std::vector<index_t> loaded;  // pieces with a tip free to run that bears most of its limit
   for (index_t n : tips_) {

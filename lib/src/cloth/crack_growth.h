@@ -78,12 +78,9 @@ class CrackField {
   /// The faces `smoothed` averages over around `p`: the disc of `radius`, doubled up to three times
   /// where it holds no face's centroid.
   std::vector<index_t> disc(const std::array<double, 3>& p) const;
-  /// The rest stretch tensor smoothed over the disc of `radius` around `p` (area weighted, 3×3
-  /// symmetric as xx yy zz xy xz yz), and the mean strength there. Public for the tests.
-  void smoothed(const std::array<double, 3>& p, const std::vector<double>& face_tensor, double* tensor,
-                double* strength) const;
-  /// One plan's faces' stretch tensors (`face_tensors`' values), each computed where first read: a
-  /// tip's advance reads one disc's faces, and only a crack's start reads them all.
+  /// The faces' stretch tensors in rest coordinates (6 values each) at one set of positions, each
+  /// computed where first read: a tip's advance reads one disc's faces, and only a crack's start
+  /// reads them all.
   class FaceTensors {
    public:
     FaceTensors(const CrackMesh& mesh, const std::vector<float>& node_pos);
@@ -102,10 +99,11 @@ class CrackField {
     std::unique_ptr<double[]> values_;  // written where `ready_`: a face's page is touched when read
     mutable std::vector<std::uint8_t> ready_;
   };
-  /// `smoothed` from one plan's tensors.
+  /// The faces' stretch tensors at `node_pos` (kept by reference), for `smoothed`.
+  FaceTensors face_tensors(const std::vector<float>& node_pos) const { return FaceTensors(m_, node_pos); }
+  /// The rest stretch tensor smoothed over the disc of `radius` around `p` (area weighted, 3×3
+  /// symmetric as xx yy zz xy xz yz), and the mean strength there. Public for the tests.
   void smoothed(const std::array<double, 3>& p, const FaceTensors& tensors, double* tensor, double* strength) const;
-  /// Per face: its stretch tensor in rest coordinates (6 values), for `smoothed`.
-  std::vector<double> face_tensors(const std::vector<float>& node_pos) const;
   /// The largest opening stretch over its limit of any tip (1: at its limit), for the tests.
   double largest_tip_ratio(const std::vector<float>& node_pos) const;
   /// The discs and faces `plan` looks at (CrackProbes).
@@ -133,9 +131,6 @@ class CrackField {
   void build_border();
   template <class F>
   void faces_near(const Vec3& p, double r, F&& f) const;
-  /// `smoothed` with each face's tensor from `tensor_of(f)` (a pointer to its 6 values).
-  template <class Get>
-  void smoothed_by(const Vec3& p, const Get& tensor_of, double* tensor, double* strength) const;
   /// The path of `tip`'s advance this substep, if it advances; `ratio` its opening stretch over its
   /// limit (0 when it is held back by `min_piece`).
   bool advance(const Tip& tip, const FaceTensors& tensors, std::vector<Vec3>& path, bool& joined, double& ratio) const;
