@@ -50,9 +50,13 @@ TEAR_HD inline index_t opposite_node(const index_t* face_nodes, index_t f, index
 /// The constraints as the kernels see them. Constraint e < edge_count is the spring of edge e:
 /// nodes spring_nodes[2e], [2e + 1] with coefficients +1 and −1 (both nodes −1 when it has no
 /// weight). Constraint edge_count + e is the hinge of edge e: four nodes and coefficients (unused
-/// slots node −1, coefficient 0). A slot is one node of one constraint: slot s < 2 edge_count is
-/// node s % 2 of spring s / 2, slot 2 edge_count + 4 e + j node j of hinge e; slots are numbered in
-/// constraint order. A spring takes 16 bytes (nodes, weight, rest length), a hinge 40.
+/// slots node −1, coefficient 0). With the membrane model (`face_count` > 0), constraint
+/// 2 edge_count + 2 f + j is column j of face f's deformation gradient: its three nodes with the
+/// coefficients that make Σ kᵢ xᵢ that column (`make_membrane_constraints`). A slot is one node of
+/// one constraint: slot s < 2 edge_count is node s % 2 of spring s / 2, slot 2 edge_count + 4 e + j
+/// node j of hinge e, slot 6 edge_count + 3 c + i node i of membrane column c; slots are numbered in
+/// constraint order. A spring takes 16 bytes (nodes, weight, rest length), a hinge 40, a face's
+/// membrane 40 (nodes, six coefficients, weight).
 struct PdConstraints {
   index_t edge_count;
   const index_t* spring_nodes;  // [edge_count * 2]
@@ -62,23 +66,41 @@ struct PdConstraints {
   const float* hinge_coef;      // [edge_count * 4]
   const float* hinge_weight;    // [edge_count]
   const float* hinge_rest;      // [edge_count]
+  index_t face_count = 0;       // faces with a membrane (0: the spring model)
+  const index_t* membrane_nodes = nullptr;  // [face_count * 3]
+  const float* membrane_coef = nullptr;     // [face_count * 6]: column 0's three, then column 1's
+  const float* membrane_weight = nullptr;   // [face_count]
 
-  TEAR_HD index_t slot_count() const { return 6 * edge_count; }
+  TEAR_HD index_t slot_count() const { return 6 * edge_count + 6 * face_count; }
   TEAR_HD index_t constraint_of_slot(index_t s) const {
-    return s < 2 * edge_count ? s / 2 : edge_count + (s - 2 * edge_count) / pd_constraint_nodes;
+    if (s < 2 * edge_count) return s / 2;
+    if (s < 6 * edge_count) return edge_count + (s - 2 * edge_count) / pd_constraint_nodes;
+    return 2 * edge_count + (s - 6 * edge_count) / 3;
   }
   TEAR_HD index_t slot_node(index_t s) const {
-    return s < 2 * edge_count ? spring_nodes[s] : hinge_nodes[s - 2 * edge_count];
+    if (s < 2 * edge_count) return spring_nodes[s];
+    if (s < 6 * edge_count) return hinge_nodes[s - 2 * edge_count];
+    const index_t m = s - 6 * edge_count;  // 3 × column + node
+    return membrane_nodes[3 * (m / 6) + m % 3];
   }
   TEAR_HD float slot_coef(index_t s) const {
-    return s < 2 * edge_count ? (s % 2 ? -1.0f : 1.0f) : hinge_coef[s - 2 * edge_count];
+    if (s < 2 * edge_count) return s % 2 ? -1.0f : 1.0f;
+    if (s < 6 * edge_count) return hinge_coef[s - 2 * edge_count];
+    return membrane_coef[s - 6 * edge_count];
   }
-  TEAR_HD float weight(index_t c) const { return c < edge_count ? spring_weight[c] : hinge_weight[c - edge_count]; }
+  TEAR_HD float weight(index_t c) const {
+    if (c < edge_count) return spring_weight[c];
+    if (c < 2 * edge_count) return hinge_weight[c - edge_count];
+    return membrane_weight[(c - 2 * edge_count) / 2];
+  }
   /// Σ |kⱼ| over the constraint's slots.
   TEAR_HD float coef_abs_sum(index_t c) const {
     if (c < edge_count) return 2.0f;
+    const float* k = c < 2 * edge_count ? hinge_coef + pd_constraint_nodes * (c - edge_count)
+                                        : membrane_coef + 3 * (c - 2 * edge_count);
+    const int count = c < 2 * edge_count ? pd_constraint_nodes : 3;
     float sum = 0.0f;
-    for (int j = 0; j < pd_constraint_nodes; ++j) sum += fabsf(hinge_coef[pd_constraint_nodes * (c - edge_count) + j]);
+    for (int j = 0; j < count; ++j) sum += fabsf(k[j]);
     return sum;
   }
 };
@@ -147,6 +169,50 @@ struct make_pd_constraints {
     hinge_weight[e] = static_cast<float>(bend_stiffness * 3.0 * len2 / (face_area[0] + face_area[1]));
     hinge_rest[e] = static_cast<float>(norm(fold));
   }
+};
+
+/// Face f's membrane: the two columns of its deformation gradient F = [x₁ − x₀, x₂ − x₀] D⁻¹ (D:
+/// the rest edges in the face's own orthonormal frame), as coefficients of its three nodes, and the
+/// weight stretch_stiffness × 3/8 × A. The energy w/2 ‖F − R‖² then resists stretch and shear
+/// alike in every direction (isotropic, whatever the face's shape), and a sheet of equilateral faces
+/// is as stiff under a one-way stretch as with the spring model's springs at the same stiffness
+/// (their energy density is stiffness/2 × 3/8 × ε² there). A face with no area compared with its
+/// longest edge squared gets no membrane (nodes −1, weight 0).
+struct make_membrane_constraints {
+  const index_t* face_nodes;
+  const float* node_rest;
+  double stretch_stiffness;  // N/m
+  index_t* membrane_nodes;   // [face_count * 3]
+  float* membrane_coef;      // [face_count * 6]
+  float* membrane_weight;    // [face_count]
+  TEAR_HD void operator()(index_t f) const {
+    for (int i = 0; i < 3; ++i) membrane_nodes[3 * f + i] = -1;
+    for (int i = 0; i < 6; ++i) membrane_coef[6 * f + i] = 0.0f;
+    membrane_weight[f] = 0.0f;
+    const index_t n[3] = {face_nodes[3 * f], face_nodes[3 * f + 1], face_nodes[3 * f + 2]};
+    const Vec3d x0 = load3<double>(node_rest, n[0]);
+    const Vec3d e1 = load3<double>(node_rest, n[1]) - x0, e2 = load3<double>(node_rest, n[2]) - x0;
+    const double a = norm(e1);
+    const double twice_area = norm(cross(e1, e2));
+    const double longest2 = fmax(dot(e1, e1), fmax(dot(e2, e2), dot(e2 - e1, e2 - e1)));
+    if (!(a > 0) || !(twice_area > 1e-8 * longest2) || !(stretch_stiffness > 0)) return;
+    // D = [a b; 0 c] in the frame (e1/a, its normal in the face's plane); D⁻¹ = [1/a −b/(ac); 0 1/c].
+    const double b = dot(e1, e2) / a, c = twice_area / a;
+    const double inv[2][2] = {{1.0 / a, -b / (a * c)}, {0.0, 1.0 / c}};
+    for (int j = 0; j < 2; ++j) {
+      membrane_coef[6 * f + 3 * j + 0] = static_cast<float>(-(inv[0][j] + inv[1][j]));
+      membrane_coef[6 * f + 3 * j + 1] = static_cast<float>(inv[0][j]);
+      membrane_coef[6 * f + 3 * j + 2] = static_cast<float>(inv[1][j]);
+    }
+    for (int i = 0; i < 3; ++i) membrane_nodes[3 * f + i] = n[i];
+    membrane_weight[f] = static_cast<float>(stretch_stiffness * 0.375 * 0.5 * twice_area);
+  }
+};
+
+/// The faces whose membrane is in use.
+struct count_membranes {
+  const float* membrane_weight;  // [face_count]
+  TEAR_HD index_t operator()(index_t f) const { return index_t(membrane_weight[f] > 0.0f); }
 };
 
 /// The constraints of edge `e` in use: its spring and its hinge, each where its weight is positive.

@@ -68,6 +68,10 @@ struct predict_positions {
 /// Constraint c as the local step reads it: up to four nodes with their coefficients (a spring's
 /// two nodes with +1 and −1, then two unused slots), its rest value and weight. Nothing of it
 /// changes within a substep, so a kernel may read it once and keep it.
+///
+/// Column j of a face's membrane is held in the same room: node[3] = −2 − j marks it, node[0..2] are
+/// the face's nodes, and k = (own₁, own₂, other₁, other₂), the coefficients of nodes 1 and 2 in this
+/// column and in the other (node 0's are minus their sum: the columns are read as edge differences).
 struct ConstraintTerms {
   index_t node[pd_constraint_nodes];  ///< −1: unused
   float k[pd_constraint_nodes];
@@ -87,6 +91,18 @@ TEAR_HD inline ConstraintTerms constraint_terms(const PdConstraints& constraints
     }
     t.rest = constraints.spring_rest[c];
     t.weight = constraints.spring_weight[c];
+  } else if (c >= 2 * constraints.edge_count) {
+    const index_t m = c - 2 * constraints.edge_count, f = m / 2, j = m % 2;
+    for (int i = 0; i < 3; ++i) t.node[i] = constraints.membrane_nodes[3 * f + i];
+    t.node[3] = -2 - j;
+    const float* own = constraints.membrane_coef + 6 * f + 3 * j;
+    const float* other = constraints.membrane_coef + 6 * f + 3 * (1 - j);
+    t.k[0] = own[1];
+    t.k[1] = own[2];
+    t.k[2] = other[1];
+    t.k[3] = other[2];
+    t.rest = 0.0f;
+    t.weight = constraints.membrane_weight[f];
   } else {
     const index_t h = c - constraints.edge_count;
     for (int j = 0; j < pd_constraint_nodes; ++j) {
@@ -105,6 +121,14 @@ TEAR_HD inline ConstraintTerms constraint_terms(const PdConstraints& constraints
 /// the tiled kernel (sim/pd_launch_tiled.h), whose terms name nodes by their place in that copy.
 template <class Position>
 TEAR_HD inline Vec3f constraint_force_at(const ConstraintTerms& t, const Position& position) {
+  if (t.node[3] < -1) {  // a membrane column: f_c = w (R's column − F's column)
+    if (t.node[0] < 0) return Vec3f{0, 0, 0};
+    const Vec3f x0 = position(t.node[0]);
+    const Vec3f e1 = position(t.node[1]) - x0, e2 = position(t.node[2]) - x0;
+    const Vec3f own = t.k[0] * e1 + t.k[1] * e2, other = t.k[2] * e1 + t.k[3] * e2;
+    const Vec3f p = t.node[3] == -2 ? project_rotation_column(own, other, 0) : project_rotation_column(other, own, 1);
+    return t.weight * (p - own);
+  }
   Vec3f d{0, 0, 0};
   for (int j = 0; j < pd_constraint_nodes; ++j)
     if (t.node[j] >= 0) d = d + t.k[j] * position(t.node[j]);

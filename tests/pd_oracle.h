@@ -12,6 +12,7 @@
 #include <vector>
 
 #include <Eigen/Geometry>
+#include <Eigen/SVD>
 #include <Eigen/SparseCholesky>
 #include <Eigen/SparseCore>
 
@@ -52,10 +53,31 @@ class PdOracle {
         edge_area[key] += a / 3;
       }
     }
+    const bool membrane = options.stretch_model_used() == StretchModel::membrane;
+    if (membrane && options.stretch_stiffness > 0)
+      for (std::size_t f = 0; f < face_nodes.size() / 3; ++f) {
+        // The face's deformation gradient in an orthonormal frame T of its rest plane: F = X G with
+        // X = [x₀ x₁ x₂] and G = P (Tᵀ E)⁻¹, E the rest edges x₁ − x₀, x₂ − x₀ and P the matrix
+        // [−1 −1; 1 0; 0 1] that takes X to them.
+        const index_t* v = &face_nodes[3 * f];
+        Eigen::Matrix<double, 3, 2> e;
+        e.col(0) = rest(v[1]) - rest(v[0]);
+        e.col(1) = rest(v[2]) - rest(v[0]);
+        const Eigen::Vector3d normal = e.col(0).cross(e.col(1));
+        if (!(normal.norm() > 1e-8 * e.colwise().squaredNorm().maxCoeff())) continue;
+        Eigen::Matrix<double, 3, 2> t;
+        t.col(0) = e.col(0).normalized();
+        t.col(1) = normal.normalized().cross(t.col(0));
+        const Eigen::Matrix2d rest_edges = t.transpose() * e;
+        Eigen::Matrix<double, 3, 2> p;
+        p << -1, -1, 1, 0, 0, 1;
+        membranes_.push_back(
+            {{v[0], v[1], v[2]}, p * rest_edges.inverse(), options.stretch_stiffness * 0.375 * 0.5 * normal.norm()});
+      }
     for (const auto& [edge, opposite] : edge_opposite) {
       const auto [a, b] = edge;
       const double len = (rest(b) - rest(a)).norm();
-      if (len > 0 && options.stretch_stiffness > 0)
+      if (len > 0 && options.stretch_stiffness > 0 && !membrane)
         constraints_.push_back({{a, b}, {1.0, -1.0}, options.stretch_stiffness * edge_area[edge] / (len * len), len});
       if (opposite.size() == 2 && options.bend_stiffness > 0) {
         // Unfold the hinge into the plane: the edge on the u axis, each opposite node at its
@@ -96,12 +118,26 @@ class PdOracle {
         for (std::size_t j = 0; j < c.nodes.size(); ++j)
           if (free_index_[c.nodes[i]] >= 0 && free_index_[c.nodes[j]] >= 0)
             triplets.emplace_back(free_index_[c.nodes[i]], free_index_[c.nodes[j]], c.weight * c.coef[i] * c.coef[j]);
+    for (const Membrane& m : membranes_)
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          if (free_index_[m.nodes[i]] >= 0 && free_index_[m.nodes[j]] >= 0)
+            triplets.emplace_back(free_index_[m.nodes[i]], free_index_[m.nodes[j]],
+                                  m.weight * m.g.row(i).dot(m.g.row(j)));
     matrix_.resize(free_count, free_count);
     matrix_.setFromTriplets(triplets.begin(), triplets.end());
     solver_.compute(matrix_);
   }
 
+  /// A face's membrane: F = [x₀ x₁ x₂] g, energy weight/2 ‖F − R‖², R F's nearest rotation.
+  struct Membrane {
+    std::array<index_t, 3> nodes;
+    Eigen::Matrix<double, 3, 2> g;
+    double weight = 0;
+  };
+
   const std::vector<Constraint>& constraints() const { return constraints_; }
+  const std::vector<Membrane>& membranes() const { return membranes_; }
   const std::vector<double>& node_mass() const { return mass_; }
   bool ok() const { return solver_.info() == Eigen::Success; }
 
@@ -138,6 +174,21 @@ class PdOracle {
             rhs.row(row) += r.transpose();
           }
         }
+        for (const Membrane& m : membranes_) {
+          Eigen::Matrix3d x3;
+          for (int i = 0; i < 3; ++i) x3.col(i) = x[m.nodes[i]];
+          const Eigen::Matrix<double, 3, 2> f = x3 * m.g;
+          const Eigen::JacobiSVD<Eigen::Matrix<double, 3, 2>> svd(f, Eigen::ComputeFullU | Eigen::ComputeFullV);
+          const Eigen::Matrix<double, 3, 2> r = svd.matrixU().leftCols<2>() * svd.matrixV().transpose();
+          for (int i = 0; i < 3; ++i) {
+            const index_t row = free_index_[m.nodes[i]];
+            if (row < 0) continue;
+            Eigen::Vector3d term = m.weight * r * m.g.row(i).transpose();
+            for (int j = 0; j < 3; ++j)
+              if (pinned_[m.nodes[j]]) term -= m.weight * m.g.row(i).dot(m.g.row(j)) * x[m.nodes[j]];
+            rhs.row(row) += term.transpose();
+          }
+        }
         const Eigen::MatrixXd solution = solver_.solve(rhs);
         double change = 0;
         for (index_t n = 0; n < node_count_; ++n)
@@ -167,6 +218,7 @@ class PdOracle {
   std::vector<std::uint8_t> pinned_;
   std::vector<double> mass_;
   std::vector<Constraint> constraints_;
+  std::vector<Membrane> membranes_;
   std::vector<index_t> free_index_;
   Eigen::SparseMatrix<double> matrix_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> solver_;

@@ -202,7 +202,7 @@ TEST_CASE("crack growth: a notched pull tears the same way at two resolutions, r
     }
     CHECK(left != right);
     check_clean(t, input);
-    CHECK(t.worst_inverted <= 0.005);
+    CHECK(t.worst_inverted <= 0.001);
     // From the notch's tip to the top border, nearly straight: the crack's length against the
     // straight line (0.75 m) and the whole torn length against the path that separates.
     const double crack = t.torn_length - 0.25;
@@ -213,9 +213,9 @@ TEST_CASE("crack growth: a notched pull tears the same way at two resolutions, r
   for (std::size_t i = 0; i < torn.size(); ++i)
     for (std::size_t j = i + 1; j < torn.size(); ++j) {
       INFO(cases[i].name << " against " << cases[j].name);
-      // Within 2.5 % of the sheet's width (measured: 2.3 % between the jittered 2,000-face sheet
-      // and the regular one, under 1 % between the others; the aim is 2 %).
-      CHECK(hausdorff(crack_points(torn[i]), crack_points(torn[j])) <= 0.025);
+      // Within 2 % of the sheet's width (measured with the membrane: 0.2 to 0.7 %; with springs
+      // the jittered 2,000-face sheet's crack wandered 2.3 % from the regular one's).
+      CHECK(hausdorff(crack_points(torn[i]), crack_points(torn[j])) <= 0.02);
     }
 }
 

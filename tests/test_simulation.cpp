@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 #include <random>
+#include <string>
 
 #include "catch.h"
 #include "pd_math.h"
@@ -15,6 +16,7 @@
 #include "tear/cut_script.h"
 #include "tear/error.h"
 #include "tear/make_sheet.h"
+#include "tear/run_cuts.h"
 #include "tear/simulation.h"
 #include "tear/topology.h"
 #include "test_support.h"
@@ -156,6 +158,8 @@ TEST_CASE("simulation: options default to the documented values", "[simulation]"
     CHECK(o.density == 0.2);
     CHECK(o.stretch_stiffness == 1000);
     CHECK(o.bend_stiffness == 1e-4);
+    CHECK(o.stretch_model == tear::StretchModel::automatic);
+    CHECK(o.stretch_model_used() == tear::StretchModel::springs);
     CHECK(o.chebyshev.rho == 0.995);
     CHECK(o.chebyshev.gamma == 0.9);
     CHECK(o.chebyshev.delay == 10);
@@ -164,12 +168,16 @@ TEST_CASE("simulation: options default to the documented values", "[simulation]"
     CHECK(o.step_seconds() == Approx(1.0 / 96));
   }
   CHECK(parse_simulation("{}").source == "s.json");
+  // A cloth that tears gets the membrane unless the script says otherwise.
+  CHECK(parse_simulation(R"({"tearing": {"stretch": 1.3}})").stretch_model_used() == tear::StretchModel::membrane);
+  CHECK(parse_simulation(R"({"stretch_model": "springs", "tearing": {"stretch": 1.3}})").stretch_model_used() ==
+        tear::StretchModel::springs);
 }
 
 TEST_CASE("simulation: every key is read", "[simulation]") {
   const SimulationOptions o =
       parse_simulation(R"({"fps": 30, "substeps": 2, "iterations": 50.0, "gravity": [0, 0, -9.8],
-    "damping": 0.5, "density": 0.15, "stretch_stiffness": 200, "bend_stiffness": 0,
+    "damping": 0.5, "density": 0.15, "stretch_stiffness": 200, "stretch_model": "membrane", "bend_stiffness": 0,
     "chebyshev": {"rho": 0.9, "gamma": 1, "delay": 0},
     "pins": [{"box": {"min": [0, 0.9, -1], "max": [1, 1, 1]}}, {"nodes": [0, 5]}],
     "colliders": [{"plane": {"point": [0, -1, 0], "normal": [0, 2, 0]}}, {"sphere": {"center": [0.5, -0.5, 0], "radius": 0.25}}]})");
@@ -181,6 +189,7 @@ TEST_CASE("simulation: every key is read", "[simulation]") {
   CHECK(o.damping == 0.5);
   CHECK(o.density == 0.15);
   CHECK(o.stretch_stiffness == 200);
+  CHECK(o.stretch_model == tear::StretchModel::membrane);
   CHECK(o.bend_stiffness == 0);
   CHECK(o.chebyshev.rho == 0.9);
   CHECK(o.chebyshev.gamma == 1);
@@ -205,7 +214,11 @@ TEST_CASE("simulation: every options error names the file and the key path", "[s
       {R"([])", "simulation: expected an object, got an empty array"},
       {R"({"dampning": 0.1})",
        "simulation.dampning: unknown key (expected fps, substeps, iterations, gravity, damping, density, "
-       "stretch_stiffness, bend_stiffness, chebyshev, pins, colliders, collision or tearing)"},
+       "stretch_stiffness, stretch_model, bend_stiffness, chebyshev, pins, colliders, collision or tearing)"},
+      {R"({"stretch_model": "cloth"})",
+       "simulation.stretch_model: expected \"automatic\", \"springs\" or \"membrane\", got \"cloth\""},
+      {R"({"stretch_model": 1})",
+       "simulation.stretch_model: expected \"automatic\", \"springs\" or \"membrane\", got 1"},
       {R"({"fps": 0})", "simulation.fps: expected a number in [0.1, 100000] (frames per second), got 0"},
       {R"({"fps": "24"})", "simulation.fps: expected a number in [0.1, 100000] (frames per second), got \"24\""},
       {R"({"substeps": 1.5})", "simulation.substeps: expected an integer in 1..10000, got 1.5"},
@@ -399,6 +412,103 @@ TEST_CASE("simulation: Chebyshev-Jacobi converges to the exact global solve, and
 }
 
 // ---- physics -------------------------------------------------------------------------------------
+
+TEST_CASE("simulation: the membrane model's constraints and converged step match the oracle's", "[simulation]") {
+  ThrownSheet sheet;
+  sheet.options.stretch_model = tear::StretchModel::membrane;
+  const tear::Mesh& mesh = sheet.mesh;
+  // Two columns of each face's deformation gradient, one hinge per interior edge, no spring.
+  PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), sheet.options, tear::test::test_device());
+  const tear::test::PdOracle oracle(mesh.face_nodes, mesh.node_pos, mesh.node_count(), sheet.options, sheet.pinned);
+  const auto topology = tear::build_topology(mesh, tear::test::test_device());
+  index_t interior = 0;
+  for (std::uint8_t b : topology.edge_boundary) interior += b ? 0 : 1;
+  CHECK(oracle.membranes().size() == static_cast<std::size_t>(mesh.face_count()));
+  CHECK(solver.constraint_count() == 2 * mesh.face_count() + interior);
+  CHECK(oracle.constraints().size() == static_cast<std::size_t>(interior));
+  // The thrown sheet stretches, shears and bends: 400 iterations reach the exact solve within a few
+  // float roundings, 20 are far from it.
+  const std::vector<double> exact = sheet.exact();
+  const auto& cheb = sheet.options.chebyshev;
+  const double error_20 = max_distance(sheet.solve(20, cheb.rho, cheb.delay, cheb.gamma), exact);
+  const double error_400 = max_distance(sheet.solve(400, cheb.rho, cheb.delay, cheb.gamma), exact);
+  INFO("error after 20 iterations " << error_20 << " m, after 400 " << error_400 << " m");
+  CHECK(error_20 > 5e-4);
+  CHECK(error_400 < 1e-5);
+}
+
+namespace {
+/// The principal stretch directions (degrees from x, in (−90, 90]) of the faces of a jittered sheet
+/// in the xy plane whose centres lie in its middle, after its left and right strips have been
+/// pulled 10 cm apart, held at both ends, with the given stretch model.
+std::vector<double> pulled_stretch_directions(const std::string& model) {
+  tear::SheetOptions sheet_options;
+  sheet_options.face_count = 2000;
+  sheet_options.irregular = true;
+  const tear::Mesh sheet = tear::make_sheet(sheet_options);
+  const tear::CutScript script = tear::parse_cut_script(R"({"version": 1, "frames": 12,
+    "simulation": {"gravity": [0, 0, 0], "stretch_model": ")" +
+                                                            model + R"(",
+      "pins": [
+        {"box": {"min": [-1, -1, -1], "max": [0.04, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 12, "offset": [-0.05, 0, 0]}]},
+        {"box": {"min": [0.96, -1, -1], "max": [2, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 12, "offset": [0.05, 0, 0]}]}]}})",
+                                                        "even.json");
+  tear::Cloth cloth(sheet, tear::test::test_device());
+  std::vector<float> pos;
+  tear::run_cuts(cloth, script, 12, [&](const tear::FrameResult&, const tear::Cloth& c) { pos = c.mesh().node_pos; });
+  std::vector<double> directions;
+  for (index_t f = 0; f < sheet.face_count(); ++f) {
+    const index_t* v = &sheet.face_nodes[3 * f];
+    const auto at = [&](const std::vector<float>& p, int i, int d) { return double(p[3 * v[i] + d]); };
+    double cx = 0, cy = 0;
+    for (int i = 0; i < 3; ++i) {
+      cx += at(sheet.node_pos, i, 0) / 3;
+      cy += at(sheet.node_pos, i, 1) / 3;
+    }
+    if (cx < 0.3 || cx > 0.7 || cy < 0.2 || cy > 0.8) continue;
+    // F = e D⁻¹ with D the rest edges in xy and e the current ones; C = FᵀF's larger eigenvector.
+    const double d00 = at(sheet.node_pos, 1, 0) - at(sheet.node_pos, 0, 0),
+                 d01 = at(sheet.node_pos, 2, 0) - at(sheet.node_pos, 0, 0);
+    const double d10 = at(sheet.node_pos, 1, 1) - at(sheet.node_pos, 0, 1),
+                 d11 = at(sheet.node_pos, 2, 1) - at(sheet.node_pos, 0, 1);
+    const double det = d00 * d11 - d01 * d10;
+    const double i00 = d11 / det, i01 = -d01 / det, i10 = -d10 / det, i11 = d00 / det;
+    double grad[3][2];
+    for (int d = 0; d < 3; ++d) {
+      const double e0 = at(pos, 1, d) - at(pos, 0, d), e1 = at(pos, 2, d) - at(pos, 0, d);
+      grad[d][0] = e0 * i00 + e1 * i10;
+      grad[d][1] = e0 * i01 + e1 * i11;
+    }
+    double c00 = 0, c01 = 0, c11 = 0;
+    for (int d = 0; d < 3; ++d) {
+      c00 += grad[d][0] * grad[d][0];
+      c01 += grad[d][0] * grad[d][1];
+      c11 += grad[d][1] * grad[d][1];
+    }
+    directions.push_back(0.5 * std::atan2(2 * c01, c00 - c11) * 180 / 3.14159265358979);
+  }
+  return directions;
+}
+
+double largest_magnitude(const std::vector<double>& values) {
+  double worst = 0;
+  for (double v : values) worst = std::max(worst, std::abs(v));
+  return worst;
+}
+}  // namespace
+
+TEST_CASE("simulation: the membrane stretches a sheet of any meshing evenly, springs do not", "[simulation]") {
+  // Pulled apart at its sides, a sheet stretches along x everywhere. The membrane responds the same
+  // in every direction whatever a face's shape, so every face's stretch points along x; a jittered
+  // mesh's springs pull each face its own way (docs/simulation.md, *Stretch models*).
+  const std::vector<double> membrane = pulled_stretch_directions("membrane");
+  const std::vector<double> springs = pulled_stretch_directions("springs");
+  REQUIRE(membrane.size() > 300);
+  INFO("largest deviation from x: membrane " << largest_magnitude(membrane) << "°, springs "
+                                             << largest_magnitude(springs) << "°");
+  CHECK(largest_magnitude(membrane) < 0.5);
+  CHECK(largest_magnitude(springs) > 10 * largest_magnitude(membrane));
+}
 
 TEST_CASE("simulation: an unpinned sheet falls as implicit Euler predicts", "[simulation]") {
   const tear::Mesh mesh = horizontal_sheet(800, true);
@@ -606,27 +716,31 @@ TEST_CASE("simulation: every way of launching a step gives the same bits", "[sim
   for (std::size_t f = 0; f < keep.size(); ++f) keep[f] = f % 9 != 4;
   const tear::Mesh holed = tear::test::permute_mesh(tear::test::keep_faces(sheet, keep), 7);
   const tear::Mesh meshes[] = {horizontal_sheet(800, true), horizontal_sheet(40000, true), fan, holed};
-  for (const tear::Mesh& mesh : meshes) {
-    const index_t faces = mesh.face_count();
-    std::vector<float> pos[mode_count], vel[mode_count];
-    std::size_t bytes[mode_count] = {};
-    for (int m = 0; m < modes_run; ++m) {
-      tear::test::ScopedEnvironment mode("TEAR_CUDA_LAUNCH", modes[m]);
-      PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
-      for (int f = 0; f < 4; ++f) solver.step();
-      pos[m] = solver.node_pos();
-      vel[m] = solver.node_vel();
-      bytes[m] = solver.bytes_per_iteration();
+  for (const tear::StretchModel model : {tear::StretchModel::springs, tear::StretchModel::membrane})
+    for (const tear::Mesh& mesh : meshes) {
+      o.stretch_model = model;
+      const bool springs = model == tear::StretchModel::springs;
+      const index_t faces = mesh.face_count();
+      std::vector<float> pos[mode_count], vel[mode_count];
+      std::size_t bytes[mode_count] = {};
+      for (int m = 0; m < modes_run; ++m) {
+        tear::test::ScopedEnvironment mode("TEAR_CUDA_LAUNCH", modes[m]);
+        PdSolver solver(mesh.face_nodes, mesh.node_pos, mesh.node_count(), o, tear::test::test_device());
+        for (int f = 0; f < 4; ++f) solver.step();
+        pos[m] = solver.node_pos();
+        vel[m] = solver.node_vel();
+        bytes[m] = solver.bytes_per_iteration();
+      }
+      // The tiled launch reports its own layout's traffic: on the GPU it ran, not a fallback. It
+      // holds edges' constraints alone, so a membrane runs as a graph instead.
+      if (modes_run == mode_count) CHECK((bytes[4] != bytes[5]) == springs);
+      CHECK(pos[0] != mesh.node_pos);
+      for (int m = 1; m < modes_run; ++m) {
+        INFO(faces << " faces, " << (springs ? "springs" : "membrane") << ": " << modes[m] << " against " << modes[0]);
+        CHECK(std::memcmp(pos[0].data(), pos[m].data(), pos[0].size() * sizeof(float)) == 0);
+        CHECK(std::memcmp(vel[0].data(), vel[m].data(), vel[0].size() * sizeof(float)) == 0);
+      }
     }
-    // The tiled launch reports its own layout's traffic: on the GPU it ran, not a fallback.
-    if (modes_run == mode_count) CHECK(bytes[4] != bytes[5]);
-    CHECK(pos[0] != mesh.node_pos);
-    for (int m = 1; m < modes_run; ++m) {
-      INFO(faces << " faces: " << modes[m] << " against " << modes[0]);
-      CHECK(std::memcmp(pos[0].data(), pos[m].data(), pos[0].size() * sizeof(float)) == 0);
-      CHECK(std::memcmp(vel[0].data(), vel[m].data(), vel[0].size() * sizeof(float)) == 0);
-    }
-  }
   const tear::Mesh mesh = horizontal_sheet(800, true);
   tear::test::ScopedEnvironment bad("TEAR_CUDA_LAUNCH", "fast");
   try {

@@ -187,6 +187,12 @@ struct TearingOptions {
   std::int64_t face_budget(std::int64_t start_faces) const;
 };
 
+/// How the cloth resists stretch: `springs`, a spring along every edge, or `membrane`, a strain
+/// constraint on every face, which responds the same in every direction whatever the faces' shapes
+/// (docs/simulation.md, *Stretch models*). `automatic` (the default) is `membrane` for a cloth that
+/// tears, whose cracks follow the stretch's direction, and `springs` otherwise.
+enum class StretchModel { automatic, springs, membrane };
+
 /// The `simulation` block of a cut script, in physical units. Defaults suit a 1 m cloth.
 struct SimulationOptions {
   double fps = 24;       ///< frames per second; one `PdSolver::step` advances 1 / fps seconds
@@ -199,6 +205,7 @@ struct SimulationOptions {
   double density = 0.2;  ///< kg/m² of rest area, > 0
   /// Membrane stiffness of the edge springs, N/m (energy per rest area per squared strain), >= 0.
   double stretch_stiffness = 1000;
+  StretchModel stretch_model = StretchModel::automatic;
   /// Bending rigidity of the edge hinges, N·m (energy per squared dihedral angle, scaled by the
   /// hinge's shape as in discrete shells), >= 0.
   double bend_stiffness = 1e-4;
@@ -210,6 +217,11 @@ struct SimulationOptions {
   /// The file the options came from, named in errors the solver raises (pins out of range).
   std::string source = "(simulation options)";
 
+  /// The stretch model the solver uses: `stretch_model`, `automatic` resolved.
+  StretchModel stretch_model_used() const {
+    if (stretch_model != StretchModel::automatic) return stretch_model;
+    return tearing.enabled() ? StretchModel::membrane : StretchModel::springs;
+  }
   /// Length of one implicit Euler step, seconds.
   double step_seconds() const { return 1.0 / (fps * substeps); }
   /// Whether substeps end in the collision pass: the cloth collides with itself or with a mesh.

@@ -373,6 +373,13 @@ double number_in(const Reader& reader, const json& value, const std::string& pat
                        [&](double x) { return x >= lo && x <= hi; });
 }
 
+StretchModel stretch_model_of(const Reader& reader, const json& value, const std::string& path) {
+  if (value == "automatic") return StretchModel::automatic;
+  if (value == "springs") return StretchModel::springs;
+  if (value == "membrane") return StretchModel::membrane;
+  reader.fail(path, "expected \"automatic\", \"springs\" or \"membrane\", got " + value.dump());
+}
+
 }  // namespace
 
 SimulationOptions parse_simulation(const json& block, const std::string& script_path, int frames) {
@@ -383,7 +390,7 @@ SimulationOptions parse_simulation(const json& block, const std::string& script_
   const std::string root = "simulation";
   reader.expect_object(block, root,
                        {"fps", "substeps", "iterations", "gravity", "damping", "density", "stretch_stiffness",
-                        "bend_stiffness", "chebyshev", "pins", "colliders", "collision", "tearing"});
+                        "stretch_model", "bend_stiffness", "chebyshev", "pins", "colliders", "collision", "tearing"});
   if (block.contains("fps"))
     options.fps =
         number_in(reader, block["fps"], child_path(root, "fps"), limits::min_fps, limits::max_fps, "frames per second");
@@ -417,6 +424,8 @@ SimulationOptions parse_simulation(const json& block, const std::string& script_
   if (block.contains("stretch_stiffness"))
     options.stretch_stiffness = number_in(reader, block["stretch_stiffness"], child_path(root, "stretch_stiffness"), 0,
                                           limits::max_stretch_stiffness, "N/m");
+  if (block.contains("stretch_model"))
+    options.stretch_model = stretch_model_of(reader, block["stretch_model"], child_path(root, "stretch_model"));
   if (block.contains("bend_stiffness"))
     options.bend_stiffness = number_in(reader, block["bend_stiffness"], child_path(root, "bend_stiffness"), 0,
                                        limits::max_bend_stiffness, "N·m");

@@ -31,26 +31,35 @@ void PdSolverOn<System>::build_model(const vec<index_t>& face_nodes, const vec<f
     frame_colliders_.resize(substeps * colliders_.size());
   }
 
-  // Masses (per node) and constraints (per edge) in one launch.
+  // Masses (per node), constraints (per edge) and membranes (per face) in one launch.
   resize_for_overwrite(node_mass_, node_count_);
   const index_t edge_count = topo.edge_count;
-  constraint_count_ = 2 * edge_count;
+  const bool membrane = options_.stretch_model_used() == StretchModel::membrane;
+  membrane_face_count_ = membrane ? static_cast<index_t>(face_nodes.size() / 3) : 0;
+  constraint_count_ = 2 * edge_count + 2 * membrane_face_count_;
   edge_count_ = edge_count;
+  resize_for_overwrite(membrane_nodes_, 3 * static_cast<std::size_t>(membrane_face_count_));
+  resize_for_overwrite(membrane_coef_, 6 * static_cast<std::size_t>(membrane_face_count_));
+  resize_for_overwrite(membrane_weight_, membrane_face_count_);
   resize_for_overwrite(spring_nodes_, 2 * static_cast<std::size_t>(edge_count));
   resize_for_overwrite(hinge_nodes_, pd_constraint_nodes * static_cast<std::size_t>(edge_count));
   resize_for_overwrite(hinge_coef_, pd_constraint_nodes * static_cast<std::size_t>(edge_count));
   for (auto* v : {&spring_weight_, &spring_rest_, &hinge_weight_, &hinge_rest_}) resize_for_overwrite(*v, edge_count);
   for_each_index<System>(
-      node_count_ + edge_count,
+      node_count_ + edge_count + membrane_face_count_,
       make_over_three_ranges(
           compute_node_masses{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.node_face_offset),
                               raw<index_t>(topo.node_faces), options_.density, raw<float>(node_mass_)},
           make_pd_constraints{raw<index_t>(face_nodes), raw<float>(node_rest), raw<index_t>(topo.edge_nodes),
                               raw<index_t>(topo.edge_faces), raw<index_t>(topo.edge_face_count), edge_count,
-                              options_.stretch_stiffness, options_.bend_stiffness, raw<index_t>(spring_nodes_),
-                              raw<float>(spring_weight_), raw<float>(spring_rest_), raw<index_t>(hinge_nodes_),
-                              raw<float>(hinge_coef_), raw<float>(hinge_weight_), raw<float>(hinge_rest_)},
-          no_pass{}, node_count_, edge_count));
+                              membrane ? 0.0 : options_.stretch_stiffness, options_.bend_stiffness,
+                              raw<index_t>(spring_nodes_), raw<float>(spring_weight_), raw<float>(spring_rest_),
+                              raw<index_t>(hinge_nodes_), raw<float>(hinge_coef_), raw<float>(hinge_weight_),
+                              raw<float>(hinge_rest_)},
+          make_membrane_constraints{raw<index_t>(face_nodes), raw<float>(node_rest), options_.stretch_stiffness,
+                                    raw<index_t>(membrane_nodes_), raw<float>(membrane_coef_),
+                                    raw<float>(membrane_weight_)},
+          node_count_, edge_count));
   active_constraint_count_ = -1;
 
   // Node→constraint CSR: the used slots counting-sorted by node, so a node's constraints come in

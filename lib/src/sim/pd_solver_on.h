@@ -128,6 +128,11 @@ class PdSolverOn final : public PdSolver::Impl {
           Traits<System>::policy(), zero, zero + edge_count_,
           kernels::count_edge_constraints{raw<float>(spring_weight_), raw<float>(hinge_weight_)}, index_t(0),
           thrust::plus<index_t>());
+      if (membrane_face_count_ > 0)
+        active_constraint_count_ +=
+            2 * thrust::transform_reduce(Traits<System>::policy(), zero, zero + membrane_face_count_,
+                                         kernels::count_membranes{raw<float>(membrane_weight_)}, index_t(0),
+                                         thrust::plus<index_t>());
     }
     return active_constraint_count_;
   }
@@ -139,8 +144,11 @@ class PdSolverOn final : public PdSolver::Impl {
     // coefficients, weight, rest value) read, its force written; each iterate read once. Global
     // step: a node's CSR offset, mass, diagonal, pin, prediction and two iterates read and the next
     // written; a slot's index and its coefficient (both in CSR order) read; each force read once.
-    const std::size_t records = e * (2 * sizeof(index_t) + 2 * sizeof(float)) +
-                                e * (4 * sizeof(index_t) + 4 * sizeof(float) + 2 * sizeof(float));
+    // A face's membrane: 3 nodes, 6 coefficients and a weight, read once for each of its columns.
+    const std::size_t records =
+        e * (2 * sizeof(index_t) + 2 * sizeof(float)) +
+        e * (4 * sizeof(index_t) + 4 * sizeof(float) + 2 * sizeof(float)) +
+        static_cast<std::size_t>(membrane_face_count_) * 2 * (3 * sizeof(index_t) + 7 * sizeof(float));
     const std::size_t forces = 2 * c * 3 * sizeof(float);
     const std::size_t node = sizeof(index_t) + 2 * sizeof(float) + 1 + 4 * 3 * sizeof(float);
     return records + forces + n * 3 * sizeof(float) + n * node + s * (sizeof(index_t) + sizeof(float));
@@ -188,7 +196,11 @@ class PdSolverOn final : public PdSolver::Impl {
             raw<index_t>(hinge_nodes_),
             raw<float>(hinge_coef_),
             raw<float>(hinge_weight_),
-            raw<float>(hinge_rest_)};
+            raw<float>(hinge_rest_),
+            membrane_face_count_,
+            raw<index_t>(membrane_nodes_),
+            raw<float>(membrane_coef_),
+            raw<float>(membrane_weight_)};
   }
   /// The substep's kernels; `omega` is where ω lives for whoever reads it.
   SubstepKernels substep_kernels(const float* omega);
@@ -220,7 +232,7 @@ class PdSolverOn final : public PdSolver::Impl {
 
   SimulationOptions options_;
   index_t node_count_ = 0;
-  index_t constraint_count_ = 0;                  // 2 per edge, weightless ones included
+  index_t constraint_count_ = 0;                  // 2 per edge and 2 per membrane, weightless ones included
   mutable index_t active_constraint_count_ = -1;  // -1: not counted since the model was built
   vec<std::uint8_t> node_pinned_;
   vec<float> node_pos_, node_vel_;  // the standalone solver's state; empty for a cloth's
@@ -230,6 +242,9 @@ class PdSolverOn final : public PdSolver::Impl {
   index_t edge_count_ = 0;
   vec<index_t> spring_nodes_, hinge_nodes_;
   vec<float> spring_weight_, spring_rest_, hinge_coef_, hinge_weight_, hinge_rest_;
+  index_t membrane_face_count_ = 0;  // the mesh's faces with the membrane model, else 0
+  vec<index_t> membrane_nodes_;
+  vec<float> membrane_coef_, membrane_weight_;
   vec<index_t> node_slot_offset_, node_slots_;  // node_slots_ sized for every slot, used or not
   vec<float> node_slot_coef_;                   // each CSR slot's coefficient, sized as node_slots_
   vec<index_t> node_tally_;                     // the CSR's counts and cursors

@@ -138,10 +138,12 @@ void PdSolverOn<System>::decide_launch(const float* node_rest) {
   using Kind = typename PersistentLaunch::Kind;
   // Tiled where no cooperative kernel holds the substep in registers or shared memory: it beats
   // two passes on every mesh measured that they do not hold (docs/BENCHMARKS.md).
-  const bool try_tiled = launch_mode_ == LaunchMode::tiled ||
-                         ((launch_mode_ == LaunchMode::persistent || persistent_.kind == Kind::none) &&
-                          launch_mode_ != LaunchMode::graph && launch_mode_ != LaunchMode::plain &&
-                          persistent_.kind != Kind::one_pass && persistent_.kind != Kind::shared);
+  // The tiled layout holds edges' constraints alone: a membrane runs every other way.
+  const bool try_tiled =
+      membrane_face_count_ == 0 && (launch_mode_ == LaunchMode::tiled ||
+                                    ((launch_mode_ == LaunchMode::persistent || persistent_.kind == Kind::none) &&
+                                     launch_mode_ != LaunchMode::graph && launch_mode_ != LaunchMode::plain &&
+                                     persistent_.kind != Kind::one_pass && persistent_.kind != Kind::shared));
 #if TEAR_CUDA_SYSTEM
   if constexpr (std::is_same<System, Cuda>::value) {
     int device = 0, optin = 0;
