@@ -112,9 +112,37 @@ bool CrackField::advance(const Tip& tip, const FaceTensors& T, std::vector<Vec3>
     joined = true;
     return true;
   }
+  // A tip on the flank of its own slit end (a snapped cut leaves some) may aim across the slit
+  // itself, which the joining above leaves out as its own border: held, the slit's end runs on.
+  if (crosses_border(tip.node, tip.at, tip.normal, q)) {
+    ratio = 0;
+    return false;
+  }
   path = {tip.at, q};
   joined = false;
   return true;
+}
+
+bool CrackField::crosses_border(index_t tip, const Vec3& at, const Vec3& normal, const Vec3& q) const {
+  // In the plane of the tip: a proper crossing, each segment's ends strictly on both sides of the
+  // other's line. Edges farther than the cut is long are not looked at (a curved cloth's far
+  // borders would project anywhere).
+  const Vec3 b1 = any_tangent(normal), b2 = cross(normal, b1);
+  const auto flat = [&](const Vec3& p) { return std::array<double, 2>{dot(sub(p, at), b1), dot(sub(p, at), b2)}; };
+  const auto side = [](const std::array<double, 2>& o, const std::array<double, 2>& a, const std::array<double, 2>& b) {
+    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+  };
+  const double reach = norm(sub(q, at));
+  const std::array<double, 2> p0{0, 0}, p1 = flat(q);
+  for (const index_t e : border_edges_) {
+    const index_t a = m_.topo.edge_nodes[2 * e], b = m_.topo.edge_nodes[2 * e + 1];
+    if (a == tip || b == tip) continue;
+    if (segment_distance(at, q, rest(a), rest(b)) > 0.01 * reach) continue;
+    const std::array<double, 2> A = flat(rest(a)), B = flat(rest(b));
+    const double s0 = side(p0, p1, A), s1 = side(p0, p1, B), s2 = side(A, B, p0), s3 = side(A, B, p1);
+    if (((s0 > 0 && s1 < 0) || (s0 < 0 && s1 > 0)) && ((s2 > 0 && s3 < 0) || (s2 < 0 && s3 > 0))) return true;
+  }
+  return false;
 }
 
 bool CrackField::near_crack(const Vec3& p) const {

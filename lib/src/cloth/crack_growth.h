@@ -152,6 +152,10 @@ class CrackField {
   /// The nearest point of a border edge not within `exclude_walk` of node `from` along the border,
   /// ahead of `p` along `d` (or anywhere with `d` null), within `reach`; false when none.
   bool nearest_border(const Vec3& p, const Vec3* d, double reach, index_t from, Vec3& point, index_t& edge) const;
+  /// Whether the straight cut from tip node `tip` (at `at`, in the plane of normal `normal`) to `q`
+  /// crosses a border edge that does not end at the tip: a cut across a crack closes a loop, and
+  /// what lies between the two is cut off.
+  bool crosses_border(index_t tip, const Vec3& at, const Vec3& normal, const Vec3& q) const;
   /// The smaller rest area of the two sides a cut from border node `tip` to border edge `edge`
   /// would leave, or a huge value when they are on different loops (nothing is cut off).
   double piece_cut_off(index_t tip, const Vec3& point, index_t edge) const;
