@@ -83,13 +83,19 @@ typename PdSolverOn<Cuda>::PersistentLaunch PdSolverOn<Cuda>::persistent_launch(
   // before the groups held their nodes in registers: 1,486 nodes 0.47 / 0.59 / 0.65; 4,646 nodes
   // 0.87 / 0.65 / 0.66; 10,201 nodes 1.19 / 0.80 / 0.72; 19,426 nodes 1.84 / 1.29 / 0.89. Holding
   // them, 1,486 nodes take 0.29, and 0.27 once the kernel's arguments left local memory.
+  // With the membrane model a group computes a polar decomposition for each of its node's membrane
+  // slots, and shared memory wins where it fits: the 1,486-node tearing pull (H200, 2026-11-28) took
+  // 1.50 ms a frame in the solver with shared memory, 2.35 with one pass.
   const long long lane_budget = 256LL * resident.sms;
   const long long nodes = node_count_;
-  if (resident.one_pass_16 > 0 && resident.one_pass_8 > 0 &&
-      (launch_mode_ == LaunchMode::one_pass || (launch_mode_ == LaunchMode::persistent && 8 * nodes <= lane_budget))) {
+  const bool one_pass_fits =
+      resident.one_pass_16 > 0 && resident.one_pass_8 > 0 &&
+      (launch_mode_ == LaunchMode::one_pass || (launch_mode_ == LaunchMode::persistent && 8 * nodes <= lane_budget));
+  const auto one_pass = [&]() -> PersistentLaunch {
     if (16 * nodes <= lane_budget) return {Kind::one_pass, blocks_for(16 * nodes, resident.one_pass_16), 16};
     return {Kind::one_pass, blocks_for(8 * nodes, resident.one_pass_8), 8};
-  }
+  };
+  if (one_pass_fits && (membrane_face_count_ == 0 || launch_mode_ == LaunchMode::one_pass)) return one_pass();
   // Shared memory: each block holds its nodes and their slots (`shared_substep_kernel`), one block
   // per multiprocessor, where every block's fit (up to about 27,000 nodes of a sheet on an H100's
   // 227 KiB a block). Measured on an H100, ms per 100 iterations, shared memory against two passes
@@ -117,6 +123,7 @@ typename PdSolverOn<Cuda>::PersistentLaunch PdSolverOn<Cuda>::persistent_launch(
       cudaGetLastError();
     }
   }
+  if (one_pass_fits) return one_pass();  // a membrane that shared memory does not hold
   if (resident.two_pass == 0) return {};
   // Two passes: only while each thread has at most a few elements per pass; on larger meshes
   // separate launches, replayed as a graph, measured faster. H100 (two blocks of the two-pass
