@@ -86,25 +86,30 @@ TEAR_HD inline Vec3f project_length(Vec3f d, float rest) {
 }
 
 /// The local step of a face's membrane (a strain constraint, Bouaziz et al. 2014, §5.1): the 3×2
-/// matrix with orthonormal columns nearest to F = [f0 f1], the face's deformation gradient, which is
-/// R = F (FᵀF)^(−1/2), its polar factor: the face moved rigidly, at its rest size and shape, the
-/// same way whatever the directions of its edges. Column `column` of R is returned. A face
-/// collapsed to a segment keeps the segment's direction as one column and leaves the other as it
-/// is; one collapsed to a point is left as it is (no force), like `project_length`'s zero vector.
-TEAR_HD inline Vec3f project_rotation_column(Vec3f f0, Vec3f f1, int column) {
+/// matrix [r0 r1] with orthonormal columns nearest to F = [f0 f1], the face's deformation gradient,
+/// which is R = F (FᵀF)^(−1/2), its polar factor: the face moved rigidly, at its rest size and
+/// shape, the same way whatever the directions of its edges. A face collapsed to a segment keeps the
+/// segment's direction as one column and leaves the other as it is; one collapsed to a point is left
+/// as it is (no force), like `project_length`'s zero vector.
+TEAR_HD inline void project_rotation(Vec3f f0, Vec3f f1, Vec3f& r0, Vec3f& r1) {
   const float a = dot(f0, f0), b = dot(f0, f1), c = dot(f1, f1);
   const float det = a * c - b * b;
   const float trace = a + c;
-  const Vec3f mine = column == 0 ? f0 : f1;
-  if (!(trace > 0.0f)) return mine;
+  if (!(trace > 0.0f)) {
+    r0 = f0;
+    r1 = f1;
+    return;
+  }
   if (det > 1e-12f * trace * trace) {
     // (FᵀF)^(1/2) = (C + √det I) / √(tr C + 2√det); its inverse by the 2×2 adjugate.
     const float root = sqrtf(det);
     const float scale = sqrtf(trace + 2.0f * root);
     const float s00 = (a + root) / scale, s01 = b / scale, s11 = (c + root) / scale;
     const float inv_det = 1.0f / (s00 * s11 - s01 * s01);
-    // Column j of F S⁻¹: f0 (S⁻¹)₀ⱼ + f1 (S⁻¹)₁ⱼ with S⁻¹ = [s11 −s01; −s01 s00] / det S.
-    return column == 0 ? (s11 * inv_det) * f0 - (s01 * inv_det) * f1 : (s00 * inv_det) * f1 - (s01 * inv_det) * f0;
+    // F S⁻¹ with S⁻¹ = [s11 −s01; −s01 s00] / det S.
+    r0 = (s11 * inv_det) * f0 - (s01 * inv_det) * f1;
+    r1 = (s00 * inv_det) * f1 - (s01 * inv_det) * f0;
+    return;
   }
   // Rank one: F ≈ u σ vᵀ with u along the longer column; R's column j is u vⱼ.
   const Vec3f u_raw = a >= c ? f0 : f1;
@@ -112,7 +117,8 @@ TEAR_HD inline Vec3f project_rotation_column(Vec3f f0, Vec3f f1, int column) {
   const Vec3f u = (1.0f / u_len) * u_raw;
   const float v0 = dot(u, f0), v1 = dot(u, f1);
   const float v_len = sqrtf(v0 * v0 + v1 * v1);
-  return ((column == 0 ? v0 : v1) / v_len) * u;
+  r0 = (v0 / v_len) * u;
+  r1 = (v1 / v_len) * u;
 }
 
 }  // namespace tear::kernels

@@ -119,15 +119,34 @@ TEAR_HD inline ConstraintTerms constraint_terms(const PdConstraints& constraints
 /// towards its projection p_c (pd_math.h `project_length`): newtons for a spring.
 /// `position(i)` gives node i's iterate: from memory by default, from a copy in shared memory for
 /// the tiled kernel (sim/pd_launch_tiled.h), whose terms name nodes by their place in that copy.
+/// Whether terms `t` are a membrane column, and which: 0 or 1 (−1: a spring or a hinge).
+TEAR_HD inline int membrane_column(const ConstraintTerms& t) { return t.node[3] < -1 ? -2 - t.node[3] : -1; }
+
+/// The local step of both columns of the membrane whose column terms `t` are (either column's):
+/// f0 and f1 the forces w (R − F) of columns 0 and 1. Every launch mode computes a membrane column's
+/// force through here, one column or both, so each gets the same bits.
+template <class Position>
+TEAR_HD inline void membrane_forces_at(const ConstraintTerms& t, const Position& position, Vec3f& f0, Vec3f& f1) {
+  if (t.node[0] < 0) {
+    f0 = f1 = Vec3f{0, 0, 0};
+    return;
+  }
+  const Vec3f x0 = position(t.node[0]);
+  const Vec3f e1 = position(t.node[1]) - x0, e2 = position(t.node[2]) - x0;
+  const Vec3f own = t.k[0] * e1 + t.k[1] * e2, other = t.k[2] * e1 + t.k[3] * e2;
+  const Vec3f g0 = membrane_column(t) == 0 ? own : other, g1 = membrane_column(t) == 0 ? other : own;
+  Vec3f r0, r1;
+  project_rotation(g0, g1, r0, r1);
+  f0 = t.weight * (r0 - g0);
+  f1 = t.weight * (r1 - g1);
+}
+
 template <class Position>
 TEAR_HD inline Vec3f constraint_force_at(const ConstraintTerms& t, const Position& position) {
-  if (t.node[3] < -1) {  // a membrane column: f_c = w (R's column − F's column)
-    if (t.node[0] < 0) return Vec3f{0, 0, 0};
-    const Vec3f x0 = position(t.node[0]);
-    const Vec3f e1 = position(t.node[1]) - x0, e2 = position(t.node[2]) - x0;
-    const Vec3f own = t.k[0] * e1 + t.k[1] * e2, other = t.k[2] * e1 + t.k[3] * e2;
-    const Vec3f p = t.node[3] == -2 ? project_rotation_column(own, other, 0) : project_rotation_column(other, own, 1);
-    return t.weight * (p - own);
+  if (membrane_column(t) >= 0) {  // a membrane column: f_c = w (R's column − F's column)
+    Vec3f f0, f1;
+    membrane_forces_at(t, position, f0, f1);
+    return membrane_column(t) == 0 ? f0 : f1;
   }
   Vec3f d{0, 0, 0};
   for (int j = 0; j < pd_constraint_nodes; ++j)
@@ -144,13 +163,26 @@ TEAR_HD inline Vec3f compute_constraint_force(const PdConstraints& constraints, 
   return constraint_force(constraint_terms(constraints, c), node_iter);
 }
 
-/// Local step of every constraint, stored for the global step (`jacobi_chebyshev_update`).
+/// Local step of every constraint, stored for the global step (`jacobi_chebyshev_update`). A
+/// membrane's column 0 computes both its columns, which share their projection; column 1 is left to
+/// it.
 struct project_constraints {
   PdConstraints constraints;
   const float* node_iter;
   float* constraint_force;  // [constraint_count * 3]
   TEAR_HD void operator()(index_t c) const {
-    store3(constraint_force, c, compute_constraint_force(constraints, node_iter, c));
+    const ConstraintTerms t = constraint_terms(constraints, c);
+    const auto position = [this](index_t i) { return load3<float>(node_iter, i); };
+    const int column = membrane_column(t);
+    if (column == 1) return;
+    if (column == 0) {
+      Vec3f f0, f1;
+      membrane_forces_at(t, position, f0, f1);
+      store3(constraint_force, c, f0);
+      store3(constraint_force, c + 1, f1);
+      return;
+    }
+    store3(constraint_force, c, constraint_force_at(t, position));
   }
 };
 

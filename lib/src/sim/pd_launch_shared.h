@@ -70,8 +70,21 @@ __global__ void __launch_bounds__(shared_block, 1) shared_substep_kernel(Substep
   for (int k = 0; k < s.iterations; ++k) {
     s.iteration(k, it);
     const kernels::jacobi_chebyshev_update& u = s.update;
-    for (index_t i = first; i < slot_count; i += stride)
+    for (index_t i = first; i < slot_count; i += stride) {
+      // A node's two slots in a membrane are neighbours in its run (column 0, then 1): column 0's
+      // thread computes both from one projection.
+      const int column = kernels::membrane_column(slots[i].terms);
+      if (column == 1) continue;
+      if (column == 0) {
+        Vec3f f0, f1;
+        kernels::membrane_forces_at(
+            slots[i].terms, [&u](index_t n) { return kernels::load3<float>(u.node_iter, n); }, f0, f1);
+        products[i] = slots[i].coef * f0;
+        products[i + 1] = slots[i + 1].coef * f1;
+        continue;
+      }
       products[i] = slots[i].coef * kernels::constraint_force(slots[i].terms, u.node_iter);
+    }
     __syncthreads();
     for (index_t j = first; j < node_count; j += stride) {
       SharedNode& v = held[j];
