@@ -115,10 +115,6 @@ TEAR_HD inline ConstraintTerms constraint_terms(const PdConstraints& constraints
   return t;
 }
 
-/// Local step of a constraint at the iterate x: f_c = w_c (p_c − A_c x), the constraint's pull
-/// towards its projection p_c (pd_math.h `project_length`): newtons for a spring.
-/// `position(i)` gives node i's iterate: from memory by default, from a copy in shared memory for
-/// the tiled kernel (sim/pd_launch_tiled.h), whose terms name nodes by their place in that copy.
 /// Whether terms `t` are a membrane column, and which: 0 or 1 (−1: a spring or a hinge).
 TEAR_HD inline int membrane_column(const ConstraintTerms& t) { return t.node[3] < -1 ? -2 - t.node[3] : -1; }
 
@@ -141,6 +137,10 @@ TEAR_HD inline void membrane_forces_at(const ConstraintTerms& t, const Position&
   f1 = t.weight * (r1 - g1);
 }
 
+/// Local step of a constraint at the iterate x: f_c = w_c (p_c − A_c x), the constraint's pull
+/// towards its projection p_c (pd_math.h `project_length`): newtons for a spring.
+/// `position(i)` gives node i's iterate: from memory by default, from a copy in shared memory for
+/// the tiled kernel (sim/pd_launch_tiled.h), whose terms name nodes by their place in that copy.
 template <class Position>
 TEAR_HD inline Vec3f constraint_force_at(const ConstraintTerms& t, const Position& position) {
   if (membrane_column(t) >= 0) {  // a membrane column: f_c = w (R's column − F's column)

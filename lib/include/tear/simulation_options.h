@@ -203,7 +203,8 @@ struct SimulationOptions {
   /// velocities by (1 - damping)^h. 0 adds no damping (implicit Euler still dissipates some).
   double damping = 0.1;
   double density = 0.2;  ///< kg/m² of rest area, > 0
-  /// Membrane stiffness of the edge springs, N/m (energy per rest area per squared strain), >= 0.
+  /// Stiffness against stretch, of the edge springs or the faces' membrane (`stretch_model`), N/m
+  /// (energy per rest area per squared strain), >= 0.
   double stretch_stiffness = 1000;
   StretchModel stretch_model = StretchModel::automatic;
   /// Bending rigidity of the edge hinges, N·m (energy per squared dihedral angle, scaled by the

@@ -125,8 +125,8 @@ bool CrackField::advance(const Tip& tip, const FaceTensors& T, std::vector<Vec3>
 
 bool CrackField::crosses_border(index_t tip, const Vec3& at, const Vec3& normal, const Vec3& q) const {
   // In the plane of the tip: a proper crossing, each segment's ends strictly on both sides of the
-  // other's line. Edges farther than the cut is long are not looked at (a curved cloth's far
-  // borders would project anywhere).
+  // other's line. Only edges within a hundredth of the cut's length of it in space are tested (a
+  // curved cloth's far borders would project anywhere onto the plane).
   const Vec3 b1 = any_tangent(normal), b2 = cross(normal, b1);
   const auto flat = [&](const Vec3& p) { return std::array<double, 2>{dot(sub(p, at), b1), dot(sub(p, at), b2)}; };
   const auto side = [](const std::array<double, 2>& o, const std::array<double, 2>& a, const std::array<double, 2>& b) {
