@@ -53,24 +53,28 @@ struct limit_strain_rate {
   float h, inv_h;
   float rate;  // limit / h: the bound on an altitude's shrinking per metre of it, 1/s
   bool finish;
-  /// Where not null (cleared before the first pass): the first pass raises it where any altitude
-  /// passes its bound, and the later passes do nothing while it is down. Without an excess every
-  /// pass gives each node its own mean velocity back and the last writes nothing, so skipping them
-  /// changes no bit; a substep with nothing to limit costs one pass instead of all.
+  /// Where not null, `strain_rate_passes` flags cleared before the first pass: pass p raises
+  /// excess[p] where any altitude of what it reads passes its bound. Without an excess a pass gives
+  /// every node its own mean velocity back (no node has a share), so the pass after one that raised
+  /// nothing only hands its input on, and after a first pass without one nothing is written at all:
+  /// skipping changes no bit. A substep with nothing to limit costs one pass instead of all, and one
+  /// whose limit settles after a few passes the faces' work of those few.
   int* excess = nullptr;
+  int pass = 0;  // p: the flags it reads and raises
 
   TEAR_HD Vec3f velocity(index_t m) const {
     return vel_in ? load3<float>(vel_in, m) : inv_h * (load3<float>(node_pos, m) - load3<float>(node_start, m));
   }
 
   TEAR_HD void operator()(index_t n) const {
-    if (vel_in != nullptr && excess != nullptr && *excess == 0) return;
+    if (excess != nullptr && pass > 0 && excess[0] == 0) return;
     const Vec3f v = velocity(n);
     Vec3f sum{0, 0, 0};
     int count = 0;
-    if (!node_pinned[n])
+    const bool settled = excess != nullptr && pass > 0 && excess[pass - 1] == 0;
+    if (!node_pinned[n] && !settled)
       for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) face_shares(node_faces[i], n, v, sum, count);
-    if (count > 0 && excess != nullptr && vel_in == nullptr) raise(excess);
+    if (count > 0 && excess != nullptr) raise(&excess[pass]);
     const Vec3f limited = count > 0 ? v + (1.0f / static_cast<float>(count)) * sum : v;
     if (!finish) {
       store3(vel_out, n, limited);

@@ -214,6 +214,11 @@ TEST_CASE("tearing: the bench's tear part times the pull scene's parts, and the 
   CHECK(r.tear_events > 0);
   CHECK(r.solver_ms > 0);
   CHECK(r.check_ms > 0);
+  // The strain rate limit runs after every substep, and a view is waited for after every tear:
+  // both parts of the check.
+  CHECK(r.limit_ms > 0);
+  CHECK(r.view_ms > 0);
+  CHECK(r.limit_ms + r.view_ms <= r.check_ms);
   CHECK(r.apply_ms > 0);
   CHECK(r.rebuild_ms > 0);
   CHECK(r.frame_ms_mean >= r.solver_ms + r.check_ms + r.apply_ms);

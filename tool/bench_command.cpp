@@ -81,9 +81,9 @@ void print_scene_row(const SceneBenchRow& r, const SceneBenchRow* cpu) {
 }
 
 void print_tear_row(const TearBenchRow& r, const TearBenchRow* cpu) {
-  std::printf("%-7s  %8d  %8d  %-4s  %7d  %9.3f  %9.3f  %8.3f  %8.3f  %8.3f  %7.1f%%", r.resolution.c_str(),
-              r.faces_start, r.faces_end, to_string(r.device), r.tear_events, r.frame_ms_mean, r.solver_ms, r.check_ms,
-              r.apply_ms, r.rebuild_ms, 100 * r.tear_fraction);
+  std::printf("%-7s  %8d  %8d  %-4s  %7d  %9.3f  %9.3f  %8.3f  %8.3f  %8.3f  %8.3f  %8.3f  %7.1f%%",
+              r.resolution.c_str(), r.faces_start, r.faces_end, to_string(r.device), r.tear_events, r.frame_ms_mean,
+              r.solver_ms, r.check_ms, r.limit_ms, r.view_ms, r.apply_ms, r.rebuild_ms, 100 * r.tear_fraction);
   if (cpu && r.frame_ms_mean > 0) std::printf("  %8.1fx", cpu->frame_ms_mean / r.frame_ms_mean);
   std::printf("\n");
 }
@@ -218,9 +218,10 @@ nlohmann::json bench_scene(const BenchOptions& options, Device device, bool with
 nlohmann::json bench_tear(const BenchOptions& options, Device device, bool with_cpu) {
   std::printf(
       "\ntear: the pull scene (tear demo --scene pull), its own substeps and iterations, no output; "
-      "per-frame means in ms\n");
-  std::printf("%-7s  %8s  %8s  %-4s  %7s  %9s  %9s  %8s  %8s  %8s  %8s%s\n", "size", "faces", "at end", "dev", "torn",
-              "frame", "solver", "check", "apply", "rebuild", "tear/sol", with_cpu ? "  cpu/gpu" : "");
+      "per-frame means in ms; limit and view are parts of check\n");
+  std::printf("%-7s  %8s  %8s  %-4s  %7s  %9s  %9s  %8s  %8s  %8s  %8s  %8s  %8s%s\n", "size", "faces", "at end", "dev",
+              "torn", "frame", "solver", "check", "(limit", "view)", "apply", "rebuild", "tear/sol",
+              with_cpu ? "  cpu/gpu" : "");
   std::fflush(stdout);
   return run_paired<TearBenchRow>(
       device, with_cpu, [&](Device d) { return run_tear_bench(options, d); }, print_tear_row);

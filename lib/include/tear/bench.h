@@ -89,6 +89,8 @@ struct TearBenchRow {
   double frame_ms_mean = 0;    ///< wall per frame, everything included
   double solver_ms = 0;        ///< the substeps
   double check_ms = 0;         ///< deciding where to tear, after every substep
+  double limit_ms = 0;         ///< of which the strain rate limit
+  double view_ms = 0;          ///< of which waiting for crack growth's view after a tear
   double apply_ms = 0;         ///< laying the cracks (remesher) where a substep tore
   double rebuild_ms = 0;       ///< the solver's model rebuilt after a tear
   /// (check + apply + rebuild) / solver: tearing's share against the solver's time.

@@ -89,6 +89,10 @@ struct TearStats {
   /// and rebuilding the solver's model for the torn cloth; `collision_ms`, the collision pass after
   /// the substeps (docs/simulation.md, *Collision*).
   double solver_ms = 0, check_ms = 0, apply_ms = 0, rebuild_ms = 0, collision_ms = 0;
+  /// Parts of `check_ms`: the strain rate limit (docs/simulation.md, *Tearing*), and the host's
+  /// wait for crack growth's view of the rest mesh after a tear (built beside the next substep on
+  /// a GPU, in the check on the CPU).
+  double limit_ms = 0, view_ms = 0;
   /// The collision pass: the bytes its arrays hold, and the nodes it has sent back to where they
   /// started a substep (its last resort where contacts still cross) since the simulation started.
   std::size_t collision_bytes = 0;

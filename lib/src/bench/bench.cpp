@@ -215,6 +215,8 @@ std::vector<TearBenchRow> run_tear_bench(const BenchOptions& options, Device dev
         const TearStats torn = c.last_tear();
         row.solver_ms += torn.solver_ms;
         row.check_ms += torn.check_ms;
+        row.limit_ms += torn.limit_ms;
+        row.view_ms += torn.view_ms;
         row.apply_ms += torn.apply_ms;
         row.rebuild_ms += torn.rebuild_ms;
         row.tear_events += torn.events;
@@ -224,7 +226,8 @@ std::vector<TearBenchRow> run_tear_bench(const BenchOptions& options, Device dev
       const double total = std::chrono::duration<double, std::milli>(Clock::now() - start).count();
       if (row.frames > 0) {
         row.frame_ms_mean = total / row.frames;
-        for (double* ms : {&row.solver_ms, &row.check_ms, &row.apply_ms, &row.rebuild_ms}) *ms /= row.frames;
+        for (double* ms : {&row.solver_ms, &row.check_ms, &row.limit_ms, &row.view_ms, &row.apply_ms, &row.rebuild_ms})
+          *ms /= row.frames;
       }
       if (row.solver_ms > 0) row.tear_fraction = (row.check_ms + row.apply_ms + row.rebuild_ms) / row.solver_ms;
       if (run >= options.warmup) runs.push_back(row);
@@ -392,6 +395,8 @@ std::string to_json(const TearBenchRow& row) {
                     {"frame_ms_mean", row.frame_ms_mean},
                     {"solver_ms", row.solver_ms},
                     {"check_ms", row.check_ms},
+                    {"limit_ms", row.limit_ms},
+                    {"view_ms", row.view_ms},
                     {"apply_ms", row.apply_ms},
                     {"rebuild_ms", row.rebuild_ms},
                     {"tear_fraction", row.tear_fraction}});

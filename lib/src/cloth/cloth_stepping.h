@@ -5,12 +5,18 @@
 
 #include <algorithm>
 #include <chrono>
+#include <condition_variable>
 #include <csignal>
 #include <cstdio>
 #include <cstdlib>
+#include <deque>
+#include <future>
 #include <limits>
 #include <memory>
+#include <mutex>
 #include <optional>
+#include <system_error>
+#include <thread>
 #include <type_traits>
 #include <vector>
 
@@ -23,13 +29,14 @@
 #include <thrust/reduce.h>
 
 #include "backend/backend.h"
+#include "backend/host_worker.h"
 #include "cloth/cloth_cutting.h"
 #include "cloth/collision_job.h"
 #include "cloth/crack_growth.h"
 #include "cloth_data/device_cloth.h"
 #include "node_identity.h"
-#include "strain_rate.h"
 #include "sim/pd_solver_device.h"
+#include "strain_rate.h"
 #include "tear/cloth.h"
 #include "tear/error.h"
 #include "tear/simulation_options.h"
@@ -62,6 +69,7 @@ class StepJob {
   void mesh_changed() {
     stale_ = true;
     field_.reset();
+    view_build_ = {};  // a view still being built is of the mesh before: its result is dropped
   }
 
   /// Steps frame `frame` of `cloth`, tearing it through `cutter` between substeps. With `stop`,
@@ -121,9 +129,10 @@ class StepJob {
       torn.solver_ms += QueueMark::elapsed_ms(m.start_kept, m.substep_end);
       torn.collision_ms += QueueMark::elapsed_ms(m.limit_end, m.collision_end);
       // The strain rate limit is tearing's: counted with its check.
-      torn.check_ms += QueueMark::elapsed_ms(m.substep_start, m.start_kept) +
-                       QueueMark::elapsed_ms(m.substep_end, m.limit_end) +
-                       QueueMark::elapsed_ms(m.collision_end, m.check_end);
+      const double limit =
+          QueueMark::elapsed_ms(m.substep_start, m.start_kept) + QueueMark::elapsed_ms(m.substep_end, m.limit_end);
+      torn.limit_ms += limit;
+      torn.check_ms += limit + QueueMark::elapsed_ms(m.collision_end, m.check_end);
       if (m.applied) torn.apply_ms += QueueMark::elapsed_ms(m.check_end, m.apply_end);
     }
     return done == substeps;
@@ -149,7 +158,7 @@ class StepJob {
     const double h = options_.step_seconds();
     resize_for_overwrite(rate_[0], cloth.node_pos.size());
     resize_for_overwrite(rate_[1], cloth.node_pos.size());
-    resize_for_overwrite(excess_, 1);
+    resize_for_overwrite(excess_, kernels::strain_rate_passes);
     kernels::limit_strain_rate pass{raw<index_t>(cloth.face_nodes),
                                     raw<index_t>(cloth.topo.node_face_offset),
                                     raw<index_t>(cloth.topo.node_faces),
@@ -169,6 +178,7 @@ class StepJob {
       pass.vel_in = p == 0 ? nullptr : raw<float>(rate_[(p + 1) % 2]);
       pass.vel_out = raw<float>(rate_[p % 2]);
       pass.finish = p + 1 == kernels::strain_rate_passes;
+      pass.pass = p;
       for_each_index<System>(cloth.node_count(), pass);
     }
   }
@@ -247,16 +257,11 @@ class StepJob {
       return false;
     }
     const auto t0 = std::chrono::steady_clock::now();
-    view_ms_[0] = view_ms_[1] = view_ms_[2] = 0;
     if (!field_) {
-      CrackMesh mesh = crack_mesh(cloth);
-      const auto read = std::chrono::steady_clock::now();
-      field_.emplace(std::move(mesh), options_.tearing);
-      const auto built = std::chrono::steady_clock::now();
-      upload_probes(field_->probes());
-      view_ms_[0] = std::chrono::duration<double, std::milli>(read - t0).count();
-      view_ms_[1] = std::chrono::duration<double, std::milli>(built - read).count();
-      view_ms_[2] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - built).count();
+      take_view(cloth);
+      torn.view_ms += std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    } else {
+      view_ms_[0] = view_ms_[1] = view_ms_[2] = 0;
     }
     const auto t1 = std::chrono::steady_clock::now();
     // The discs and the faces crack growth would look at, summed on the backend: where nothing
@@ -296,11 +301,67 @@ class StepJob {
         remesher.apply_cut_info(cloth, cut_options, stats, clock, false)) {
       cutter.reapply_box_pins(cloth);
       mesh_changed();
+      start_view(cloth);
       torn.events += plan.events;
       torn.length += plan.length;
     }
     m.apply_end.record();
     return true;
+  }
+
+  /// Crack growth's view of a torn mesh and its probes, built on the host.
+  struct ViewBuild {
+    std::optional<CrackField> field;
+    CrackProbes probes;
+    double read_ms = 0, build_ms = 0;
+  };
+  static ViewBuild build_view(CrackMesh mesh, const TearingOptions& options) {
+    const auto t0 = std::chrono::steady_clock::now();
+    ViewBuild b;
+    b.field.emplace(std::move(mesh), options);
+    b.probes = b.field->probes();
+    b.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    return b;
+  }
+
+  /// After a tear on a GPU: the torn mesh read back, and its view built on a thread of the host's
+  /// while the backend runs the next substep (the host would wait for it otherwise). The view is
+  /// the same whichever thread builds it. On the CPU the substep needs the host's threads: the
+  /// check builds the view where it needs it.
+  void start_view(const DeviceCloth<System>& cloth) {
+    if (std::is_same<System, Omp>::value) return;
+    const auto t0 = std::chrono::steady_clock::now();
+    CrackMesh mesh = crack_mesh(cloth);
+    const double read_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    try {
+      std::packaged_task<ViewBuild()> task([mesh = std::move(mesh), options = options_.tearing, read_ms]() mutable {
+        ViewBuild b = build_view(std::move(mesh), options);
+        b.read_ms = read_ms;
+        return b;
+      });
+      view_build_ = task.get_future();
+      view_worker_.run(std::move(task));
+    } catch (const std::system_error&) {
+      view_build_ = {};  // no thread to be had: the check builds it
+    }
+  }
+
+  /// Crack growth's view of the mesh as it is: the one started after the tear, or built now.
+  void take_view(const DeviceCloth<System>& cloth) {
+    const auto t0 = std::chrono::steady_clock::now();
+    ViewBuild b;
+    if (view_build_.valid()) {
+      b = view_build_.get();  // the build's error, if any, is thrown here
+    } else {
+      b = build_view(crack_mesh(cloth), options_.tearing);
+      b.read_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - b.build_ms;
+    }
+    field_ = std::move(b.field);
+    const auto t1 = std::chrono::steady_clock::now();
+    upload_probes(std::move(b.probes));
+    view_ms_[0] = b.read_ms;
+    view_ms_[1] = b.build_ms;
+    view_ms_[2] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
   }
 
   /// The crack field's probes (CrackProbes) into the backend's memory, with its host half.
@@ -485,7 +546,7 @@ class StepJob {
   vector<System, index_t> cell_face_;
   vector<System, kernels::DiscSums> sums_;
   vector<System, float> start_pos_, rate_[2];  // the strain rate limit's start positions and mean velocities
-  vector<System, int> excess_;                 // [1] the limit's first pass found an altitude to limit
+  vector<System, int> excess_;                 // [strain_rate_passes] the limit's pass p found an altitude to limit
   vector<System, kernels::DiscSums> face_terms_;  // every face's disc term, this check's (GPU)
   vector<System, double> values_;                 // largest_of's per-element values
   vector<System, double> face_centroids_;         // every face's rest centroid, this view's (GPU)
@@ -499,6 +560,8 @@ class StepJob {
   std::int64_t face_budget_ = 0;  // the most faces tearing may leave it with
   std::unique_ptr<StepMarks[]> marks_;  // [mark_count_], one per substep
   int mark_count_ = 0;
+  std::future<ViewBuild> view_build_;  // the view after the last tear, being built (GPU)
+  HostWorker<ViewBuild> view_worker_;  // builds it; last, so first destroyed (waits for its task)
 };
 
 }  // namespace tear::backend
