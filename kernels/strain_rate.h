@@ -67,13 +67,29 @@ struct limit_strain_rate {
   }
 
   TEAR_HD void operator()(index_t n) const {
-    if (excess != nullptr && pass > 0 && excess[0] == 0) return;
+    if (idle()) return;
     const Vec3f v = velocity(n);
     Vec3f sum{0, 0, 0};
     int count = 0;
-    const bool settled = excess != nullptr && pass > 0 && excess[pass - 1] == 0;
-    if (!node_pinned[n] && !settled)
-      for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i) face_shares(node_faces[i], n, v, sum, count);
+    if (takes_shares(n))
+      for (index_t i = node_face_offset[n]; i < node_face_offset[n + 1]; ++i)
+        face_shares(node_faces[i], n, v, [&](const Vec3f& share) {
+          sum = sum + share;
+          ++count;
+        });
+    finish_node(n, v, sum, count);
+  }
+
+  /// The whole pass does nothing: the first found nothing to limit.
+  TEAR_HD bool idle() const { return excess != nullptr && pass > 0 && excess[0] == 0; }
+  /// Whether node n's faces give it shares this pass: not where it is pinned, nor after a pass that
+  /// found nothing to limit.
+  TEAR_HD bool takes_shares(index_t n) const {
+    return !node_pinned[n] && !(excess != nullptr && pass > 0 && excess[pass - 1] == 0);
+  }
+  /// Node n with the sum and count of its shares, added in its face order: the flag raised where it
+  /// has any, and its limited velocity stored, or on the last pass its position and velocity.
+  TEAR_HD void finish_node(index_t n, const Vec3f& v, const Vec3f& sum, int count) const {
     if (count > 0 && excess != nullptr) raise(&excess[pass]);
     const Vec3f limited = count > 0 ? v + (1.0f / static_cast<float>(count)) * sum : v;
     if (!finish) {
@@ -115,11 +131,12 @@ struct limit_strain_rate {
     return dot(start_normal(f), around) < 0.0f;
   }
 
-  /// Node n's shares of face f's three altitudes over their bounds. The altitude of corner a over
-  /// the line of b-c, at the foot b + t (c - b), changes at g · u along the unit normal from the line
-  /// to a, with g = (1, -(1 - t), -t) for (a, b, c); the correction moves each node along g_k λ,
-  /// λ sharing the excess by the free nodes' g_k².
-  TEAR_HD void face_shares(index_t f, index_t n, const Vec3f& v, Vec3f& sum, int& count) const {
+  /// Node n's shares of face f's three altitudes over their bounds, handed to `add` in altitude
+  /// order. The altitude of corner a over the line of b-c, at the foot b + t (c - b), changes at
+  /// g · u along the unit normal from the line to a, with g = (1, -(1 - t), -t) for (a, b, c); the
+  /// correction moves each node along g_k λ, λ sharing the excess by the free nodes' g_k².
+  template <class Add>
+  TEAR_HD void face_shares(index_t f, index_t n, const Vec3f& v, Add&& add) const {
     Vec3f x[3], u[3];
     float w[3];
     int me = 0;
@@ -153,9 +170,48 @@ struct limit_strain_rate {
       if (folded) return;
       const float weight = w[0] * g[0] * g[0] + w[1] * g[1] * g[1] + w[2] * g[2] * g[2];
       if (!(weight > 0.0f)) continue;
-      sum = sum + (w[me] * g[me] * ((-bound - growing) / weight)) * normal;
-      ++count;
+      add((w[me] * g[me] * ((-bound - growing) / weight)) * normal);
     }
+  }
+};
+
+/// `limit_strain_rate` a warp a node on a GPU (index i: node i / 32, lane i % 32): lane k takes the
+/// shares of the node's k-th face, and lane 0 adds them up in the node's face order, altitude by
+/// altitude, as one thread does (the device makes no fused multiply-adds: a share rounds the same
+/// whether added where it is made or after a shuffle), so the bits are the same. A node of more
+/// than 32 faces is lane 0's alone. On the CPU, one thread a node.
+struct limit_strain_rate_by_warp {
+  limit_strain_rate one;
+  TEAR_HD void operator()(index_t i) const {
+    const index_t n = i / 32;
+    const int lane = static_cast<int>(i % 32);
+#if defined(__CUDA_ARCH__)
+    if (one.idle()) return;
+    const index_t begin = one.node_face_offset[n], faces = one.node_face_offset[n + 1] - begin;
+    if (faces > 32) {
+      if (lane == 0) one(n);
+      return;
+    }
+    const Vec3f v = one.velocity(n);
+    Vec3f share[3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
+    int made = 0;
+    if (lane < faces && one.takes_shares(n))
+      one.face_shares(one.node_faces[begin + lane], n, v, [&](const Vec3f& s) { share[made++] = s; });
+    Vec3f sum{0, 0, 0};
+    int count = 0;
+    for (int k = 0; k < faces; ++k) {
+      const int from_k = __shfl_sync(0xffffffffu, made, k);
+      for (int a = 0; a < from_k; ++a) {
+        const Vec3f s{__shfl_sync(0xffffffffu, share[a].x, k), __shfl_sync(0xffffffffu, share[a].y, k),
+                      __shfl_sync(0xffffffffu, share[a].z, k)};
+        sum = sum + s;
+        ++count;
+      }
+    }
+    if (lane == 0) one.finish_node(n, v, sum, count);
+#else
+    if (lane == 0) one(n);
+#endif
   }
 };
 

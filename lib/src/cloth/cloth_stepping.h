@@ -179,7 +179,11 @@ class StepJob {
       pass.vel_out = raw<float>(rate_[p % 2]);
       pass.finish = p + 1 == kernels::strain_rate_passes;
       pass.pass = p;
-      for_each_index<System>(cloth.node_count(), pass);
+      // A warp a node on a GPU (the same bits), where the lanes' count fits an index.
+      if (!std::is_same<System, Omp>::value && cloth.node_count() <= std::numeric_limits<index_t>::max() / 32)
+        for_each_index<System>(32 * cloth.node_count(), kernels::limit_strain_rate_by_warp{pass});
+      else
+        for_each_index<System>(cloth.node_count(), pass);
     }
   }
 
