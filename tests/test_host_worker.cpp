@@ -1,6 +1,7 @@
 // The thread of the host's that builds crack growth's view beside the device's next substep
 // (lib/src/backend/host_worker.h): tasks in turn on a thread of its own, results and errors in their
-// futures, the task under way finished at the end; and a view built there the same as one built here.
+// futures, the task under way finished at the end; a view built there the same as one built here,
+// and a view built in the memory of the one before the same as one built anew.
 #include <future>
 #include <stdexcept>
 #include <string>
@@ -110,4 +111,56 @@ TEST_CASE("host worker: crack growth's view built on it is the one built on the 
   CHECK(there.cell_face == own.cell_face);
   CHECK(there.cell == own.cell);
   CHECK(there.radius == own.radius);
+}
+
+TEST_CASE("crack growth: a view built in the memory of the one before is the view built anew", "[tearing]") {
+  // The view before: of a sheet with a short slit; the view after: of the same sheet cut further
+  // and across (more faces, nodes and border), and of the sheet before the slit (fewer).
+  const auto view_mesh = [](const tear::Cloth& cloth) {
+    tear::CrackMesh mesh;
+    mesh.node_rest = cloth.node_rest();
+    mesh.face_nodes = cloth.face_nodes();
+    mesh.topo = cloth.topology();
+    return mesh;
+  };
+  tear::TearingOptions options;
+  options.stretch = 1.3;
+  options.radius = 0.05;
+  tear::Cloth small(sheet(2000, true), tear::test::test_device());
+  const tear::CrackMesh before_cut = view_mesh(small);
+  tear::CutLine slit;
+  slit.polyline = {{0.5, -0.1}, {0.5, 0.3}};
+  small.cut({slit}, tear::CutOptions{});
+  const tear::CrackMesh slit_mesh = view_mesh(small);
+  tear::CutLine across;
+  across.polyline = {{-0.1, 0.7}, {0.6, 0.65}};
+  small.cut({across}, tear::CutOptions{});
+  const tear::CrackMesh cut_mesh = view_mesh(small);
+  for (const tear::CrackMesh* next : {&cut_mesh, &before_cut}) {
+    tear::CrackField old(slit_mesh, options);
+    tear::CrackMesh reused = old.release_mesh();
+    reused.node_rest = next->node_rest;
+    reused.face_nodes = next->face_nodes;
+    reused.topo = next->topo;
+    const tear::CrackField recycled(std::move(reused), options, &old), fresh(*next, options);
+    const tear::CrackProbes a = recycled.probes(), b = fresh.probes();
+    INFO((next == &cut_mesh ? "cut further" : "uncut"));
+    CHECK(recycled.tips() == fresh.tips());
+    CHECK(recycled.node_pieces() == fresh.node_pieces());
+    CHECK(a.offsets == b.offsets);
+    CHECK(a.faces == b.faces);
+    CHECK(a.normal == b.normal);
+    CHECK(a.limit == b.limit);
+    CHECK(a.may_start == b.may_start);
+    CHECK(a.cell_key == b.cell_key);
+    CHECK(a.cell_face == b.cell_face);
+    std::vector<float> pos = next->node_rest;
+    for (std::size_t i = 0; i < pos.size(); i += 3) pos[i] *= 1.4f;  // pulled along x: some tip may cut
+    const tear::CrackPlan pa = recycled.plan(pos), pb = fresh.plan(pos);
+    CHECK(pa.events > 0);  // stretched past the limit everywhere: a tip runs or a crack starts
+    CHECK(pa.events == pb.events);
+    CHECK(pa.length == pb.length);
+    REQUIRE(pa.cuts.size() == pb.cuts.size());
+    for (std::size_t c = 0; c < pa.cuts.size(); ++c) CHECK(pa.cuts[c].polyline == pb.cuts[c].polyline);
+  }
 }

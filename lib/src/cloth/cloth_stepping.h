@@ -68,6 +68,7 @@ class StepJob {
   /// The mesh changed (a cut, a tear, a loaded checkpoint): the model and crack field are rebuilt.
   void mesh_changed() {
     stale_ = true;
+    if (field_) spare_ = std::move(field_);  // its memory, for the next view's
     field_.reset();
     view_build_ = {};  // a view still being built is of the mesh before: its result is dropped
   }
@@ -319,10 +320,10 @@ class StepJob {
     CrackProbes probes;
     double read_ms = 0, build_ms = 0;
   };
-  static ViewBuild build_view(CrackMesh mesh, const TearingOptions& options) {
+  static ViewBuild build_view(CrackMesh mesh, const TearingOptions& options, CrackField* recycled) {
     const auto t0 = std::chrono::steady_clock::now();
     ViewBuild b;
-    b.field.emplace(std::move(mesh), options);
+    b.field.emplace(std::move(mesh), options, recycled);
     b.probes = b.field->probes();
     b.build_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     return b;
@@ -335,14 +336,17 @@ class StepJob {
   void start_view(const DeviceCloth<System>& cloth) {
     if (std::is_same<System, Omp>::value) return;
     const auto t0 = std::chrono::steady_clock::now();
-    CrackMesh mesh = crack_mesh(cloth);
+    std::optional<CrackField> old = take_spare();
+    CrackMesh mesh = old ? old->release_mesh() : CrackMesh{};
+    crack_mesh(cloth, mesh);
     const double read_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     try {
-      std::packaged_task<ViewBuild()> task([mesh = std::move(mesh), options = options_.tearing, read_ms]() mutable {
-        ViewBuild b = build_view(std::move(mesh), options);
-        b.read_ms = read_ms;
-        return b;
-      });
+      std::packaged_task<ViewBuild()> task(
+          [mesh = std::move(mesh), options = options_.tearing, read_ms, old = std::move(old)]() mutable {
+            ViewBuild b = build_view(std::move(mesh), options, old ? &*old : nullptr);
+            b.read_ms = read_ms;
+            return b;
+          });
       view_build_ = task.get_future();
       view_worker_.run(std::move(task));
     } catch (const std::system_error&) {
@@ -357,7 +361,10 @@ class StepJob {
     if (view_build_.valid()) {
       b = view_build_.get();  // the build's error, if any, is thrown here
     } else {
-      b = build_view(crack_mesh(cloth), options_.tearing);
+      std::optional<CrackField> old = take_spare();
+      CrackMesh mesh = old ? old->release_mesh() : CrackMesh{};
+      crack_mesh(cloth, mesh);
+      b = build_view(std::move(mesh), options_.tearing, old ? &*old : nullptr);
       b.read_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - b.build_ms;
     }
     field_ = std::move(b.field);
@@ -366,6 +373,13 @@ class StepJob {
     view_ms_[0] = b.read_ms;
     view_ms_[1] = b.build_ms;
     view_ms_[2] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
+  }
+
+  /// The view of the mesh before, whose memory the next view's build takes (none: empty).
+  std::optional<CrackField> take_spare() {
+    std::optional<CrackField> old = std::move(spare_);
+    spare_.reset();
+    return old;
   }
 
   /// The crack field's probes (CrackProbes) into the backend's memory, with its host half.
@@ -490,8 +504,8 @@ class StepJob {
   /// through page-locked memory and waited for once (a copy each into pageable memory waited for
   /// every one). Of the topology only what crack growth looks up; the UVs only where a weave or
   /// seams need them; which corners' edges are torn marked on the backend, where the origins they
-  /// are told from already are.
-  CrackMesh crack_mesh(const DeviceCloth<System>& c) {
+  /// are told from already are. Into `mesh`, whose arrays keep their memory where it suffices.
+  void crack_mesh(const DeviceCloth<System>& c, CrackMesh& mesh) {
     const index_t faces = c.topo.face_count;
     resize_for_overwrite(corner_torn_, 3 * std::size_t(faces));
     for_each_index<System>(
@@ -507,7 +521,6 @@ class StepJob {
                face_edges = queue_read(c.topo.face_edges), node_face_offset = queue_read(c.topo.node_face_offset),
                node_faces = queue_read(c.topo.node_faces), torn = queue_read(corner_torn_);
     read_.wait();
-    CrackMesh mesh;
     take_read(rest, mesh.node_rest);
     take_read(face_nodes, mesh.face_nodes);
     take_read(uv, mesh.corner_uv);
@@ -522,7 +535,6 @@ class StepJob {
     take_read(face_edges, t.face_edges);
     take_read(node_face_offset, t.node_face_offset);
     take_read(node_faces, t.node_faces);
-    return mesh;
   }
 
   /// The cloth's positions on the host, through the same page-locked read-back.
@@ -541,6 +553,7 @@ class StepJob {
   std::unique_ptr<PdSolver::Impl> solver_;                       // the model of the mesh it was built for
   bool stale_ = false;                                           // the mesh changed since
   std::optional<CrackField> field_;                              // crack growth's view of the rest mesh, while it holds
+  std::optional<CrackField> spare_;                              // the view before, its memory for the next
   ReadBack<System> read_;                                        // crack growth's reads of the cloth
   vector<System, std::uint8_t> corner_torn_;                     // CrackMesh::corner_torn, marked on the backend
   CrackProbes probes_;                                           // the field's probes, and in the backend's memory:

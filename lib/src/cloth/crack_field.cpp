@@ -114,6 +114,39 @@ std::vector<float> face_strength_field(const std::vector<float>& node_rest, cons
 }
 
 CrackField::CrackField(CrackMesh mesh, const TearingOptions& options) : m_(std::move(mesh)), options_(options) {
+  build();
+}
+
+CrackField::CrackField(CrackMesh mesh, const TearingOptions& options, CrackField* recycled)
+    : m_(std::move(mesh)), options_(options) {
+  if (recycled) reuse(*recycled);
+  build();
+}
+
+void CrackField::reuse(CrackField& old) {
+  // Every array the build fills, cleared: it starts as a new view's would, in memory already
+  // touched.
+  const auto take = [](auto& into, auto& from) {
+    into = std::move(from);
+    into.clear();
+  };
+  take(face_centroid_, old.face_centroid_);
+  take(face_normal_, old.face_normal_);
+  take(face_area_, old.face_area_);
+  take(border_next_, old.border_next_);
+  take(border_prev_, old.border_prev_);
+  take(border_torn_, old.border_torn_);
+  take(border_edges_, old.border_edges_);
+  take(edge_seam_, old.edge_seam_);
+  take(node_near_tip_, old.node_near_tip_);
+  take(tips_, old.tips_);
+  take(may_start_, old.may_start_);
+  take(node_piece_, old.node_piece_);
+  take(cell_key_, old.cell_key_);
+  take(cell_face_, old.cell_face_);
+}
+
+void CrackField::build() {
   // TEAR_DEBUG_CRACK_TIMES=1: the construction's parts on standard error.
   static const bool timed = std::getenv("TEAR_DEBUG_CRACK_TIMES") != nullptr;
   using Clock = std::chrono::steady_clock;

@@ -71,6 +71,11 @@ struct CrackProbes {
 class CrackField {
  public:
   CrackField(CrackMesh mesh, const TearingOptions& options);
+  /// The same, built in the memory of `recycled`, a view of the mesh before (null: none), which is
+  /// left empty: a view rebuilt after every tear touches no new pages where it fits in the old one.
+  CrackField(CrackMesh mesh, const TearingOptions& options, CrackField* recycled);
+  /// The mesh this view was built from, its arrays to be filled again; the view is left unusable.
+  CrackMesh release_mesh() { return std::move(m_); }
 
   /// The cuts of this substep for positions `node_pos` [node_count * 3].
   CrackPlan plan(const std::vector<float>& node_pos) const;
@@ -126,6 +131,9 @@ class CrackField {
   /// Tip `n` with its normal, the crack's course (the line fitted through its slit) and its forward
   /// direction; false when the slit gives no direction.
   bool make_tip(index_t n, Tip& tip) const;
+  void build();
+  /// Takes `old`'s arrays, emptied, for this view's (their memory kept).
+  void reuse(CrackField& old);
   void build_grid();
   void build_pieces();
   void build_border();
