@@ -38,6 +38,7 @@
 #include "sim/pd_solver_device.h"
 #include "strain_rate.h"
 #include "tear/cloth.h"
+#include "tear/device.h"
 #include "tear/error.h"
 #include "tear/simulation_options.h"
 #include "tear_cracks.h"
@@ -340,9 +341,13 @@ class StepJob {
     CrackMesh mesh = old ? old->release_mesh() : CrackMesh{};
     crack_mesh(cloth, mesh);
     const double read_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
+    // The worker's OpenMP team: this thread's limit (`--threads`; a new thread starts with
+    // OpenMP's) less the one this thread keeps, waiting for the device meanwhile.
+    const int threads = std::max(1, cpu_threads() - 1);
     try {
       std::packaged_task<ViewBuild()> task(
-          [mesh = std::move(mesh), options = options_.tearing, read_ms, old = std::move(old)]() mutable {
+          [mesh = std::move(mesh), options = options_.tearing, read_ms, old = std::move(old), threads]() mutable {
+            set_cpu_threads(threads);
             ViewBuild b = build_view(std::move(mesh), options, old ? &*old : nullptr);
             b.read_ms = read_ms;
             return b;
