@@ -55,6 +55,7 @@ TEST_CASE("host worker: its end waits for the task under way, and a task queued 
   std::promise<void> started, release;
   std::shared_future<void> go = release.get_future().share();
   std::future<int> first, second;
+  std::thread releaser;  // lets the first task end while the worker's end waits for it
   {
     HostWorker<int> worker;
     std::packaged_task<int()> one([&started, go] {
@@ -68,8 +69,9 @@ TEST_CASE("host worker: its end waits for the task under way, and a task queued 
     worker.run(std::move(one));
     worker.run(std::move(two));
     started.get_future().wait();  // the first is under way, the second queued
-    std::thread([&release] { release.set_value(); }).detach();
+    releaser = std::thread([&release] { release.set_value(); });
   }
+  releaser.join();
   CHECK(first.get() == 1);
   // Released before or after the end began: either it ran, or its promise was broken.
   bool ran = false, dropped = false;

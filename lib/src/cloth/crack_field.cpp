@@ -144,6 +144,7 @@ void CrackField::reuse(CrackField& old) {
   take(node_piece_, old.node_piece_);
   take(cell_key_, old.cell_key_);
   take(cell_face_, old.cell_face_);
+  scratch_ = std::move(old.scratch_);  // each build assigns what it uses
 }
 
 void CrackField::build() {
@@ -175,7 +176,8 @@ void CrackField::build() {
   for (index_t f = 0; f < faces; ++f) total_area_ += face_area_[f];
   // The smoothing disc spans a face at least, so a coarse mesh still averages a neighbourhood.
   // Each edge's length on the host's threads, summed in edge order: the same sum on any number.
-  std::vector<double> length(m_.topo.edge_count);
+  std::vector<double>& length = scratch_.length;
+  length.assign(m_.topo.edge_count, 0.0);
 #pragma omp parallel for schedule(static)
   for (index_t e = 0; e < m_.topo.edge_count; ++e)
     length[e] = norm(sub(rest(m_.topo.edge_nodes[2 * e]), rest(m_.topo.edge_nodes[2 * e + 1])));
@@ -244,7 +246,8 @@ void CrackField::build_grid() {
   // (key, face) pairs where not. The two give the same order: within 2^20 cells of the origin a
   // key orders cells as their x, y, z do (the box's order, z fastest).
   constexpr std::int64_t half = std::int64_t(1) << 20;
-  std::vector<std::int64_t> at(3 * std::size_t(faces));
+  std::vector<std::int64_t>& at = scratch_.at;
+  at.assign(3 * std::size_t(faces), 0);
 #pragma omp parallel for schedule(static)
   for (index_t f = 0; f < faces; ++f)
     for (int a = 0; a < 3; ++a)
@@ -276,7 +279,8 @@ void CrackField::build_grid() {
       const std::int64_t* c = &at[3 * std::size_t(f)];
       return ((c[0] - lo[0]) * ny + (c[1] - lo[1])) * nz + (c[2] - lo[2]);
     };
-    std::vector<index_t> first(static_cast<std::size_t>(cells) + 1, 0);
+    std::vector<index_t>& first = scratch_.first;
+    first.assign(static_cast<std::size_t>(cells) + 1, 0);
     for (index_t f = 0; f < faces; ++f) ++first[cell_of(f) + 1];
     for (std::size_t c = 1; c < first.size(); ++c) first[c] += first[c - 1];
     for (index_t f = 0; f < faces; ++f) {
@@ -308,7 +312,8 @@ void CrackField::build_border() {
   border_torn_.assign(nodes, 0);
   // The corners whose opposite edge is on the border, found on the host's threads; then walked in
   // face order, as one thread would.
-  std::vector<std::uint8_t> on_border(3 * std::size_t(faces));
+  std::vector<std::uint8_t>& on_border = scratch_.on_border;
+  on_border.assign(3 * std::size_t(faces), 0);
 #pragma omp parallel for schedule(static)
   for (index_t c = 0; c < 3 * faces; ++c) on_border[c] = m_.topo.edge_faces[2 * m_.topo.face_edges[c] + 1] < 0;
   for (index_t f = 0; f < faces; ++f)
@@ -325,7 +330,8 @@ void CrackField::build_border() {
   // The rest angle sums of the border nodes (a tip's passes 1.5π); the nodes inside need none.
   // Each border node sums its corners over its faces in ascending order (the node's faces are
   // listed so), as a walk over all faces in order would: the same sums.
-  std::vector<double> node_angle(nodes, 0.0);
+  std::vector<double>& node_angle = scratch_.node_angle;
+  node_angle.assign(nodes, 0.0);
 #pragma omp parallel for schedule(dynamic, 256)
   for (index_t n = 0; n < nodes; ++n) {
     if (border_next_[n] < 0) continue;

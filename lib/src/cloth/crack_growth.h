@@ -186,6 +186,13 @@ class CrackField {
   double cell_ = 1;
   double radius_ = 1;  // the smoothing radius: `radius`, or two mean edges on a coarser mesh
   double total_area_ = 0;
+  /// The build's working arrays, kept for the view built in this one's memory (`reuse`).
+  struct Scratch {
+    std::vector<double> length, node_angle;  // [edges] rest lengths; [nodes] rest angle sums
+    std::vector<std::int64_t> at;            // [faces * 3] each face's cell
+    std::vector<index_t> first;              // the grid's counting sort
+    std::vector<std::uint8_t> on_border;     // [faces * 3] the corner's opposite edge is on the border
+  } scratch_;
 };
 
 /// The factor on the limits per face: from `variation` and `seed`, a value noise of feature size
