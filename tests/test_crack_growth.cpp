@@ -28,17 +28,6 @@
 
 using namespace tear::test::pulls;
 
-namespace {
-/// What crack growth reads of `cloth`: its rest shape, faces and topology.
-tear::CrackMesh crack_mesh_of(const tear::Cloth& cloth) {
-  tear::CrackMesh mesh;
-  mesh.node_rest = cloth.node_rest();
-  mesh.face_nodes = cloth.face_nodes();
-  mesh.topo = cloth.topology();
-  return mesh;
-}
-}  // namespace
-
 TEST_CASE("crack growth: a slit's end is its one tip, and a uniform stretch smooths to itself", "[tearing]") {
   tear::Cloth cloth(sheet(800, true), tear::test::test_device());
   tear::CutLine line;

@@ -88,10 +88,7 @@ TEST_CASE("host worker: crack growth's view built on it is the one built on the 
   tear::CutLine line;
   line.polyline = {{0.5, -0.1}, {0.5, 0.4}};
   cloth.cut({line}, tear::CutOptions{});
-  tear::CrackMesh mesh;
-  mesh.node_rest = cloth.node_rest();
-  mesh.face_nodes = cloth.face_nodes();
-  mesh.topo = cloth.topology();
+  const tear::CrackMesh mesh = crack_mesh_of(cloth);
   tear::TearingOptions options;
   options.stretch = 1.3;
   options.radius = 0.05;
@@ -118,26 +115,19 @@ TEST_CASE("host worker: crack growth's view built on it is the one built on the 
 TEST_CASE("crack growth: a view built in the memory of the one before is the view built anew", "[tearing]") {
   // The view before: of a sheet with a short slit; the view after: of the same sheet cut further
   // and across (more faces, nodes and border), and of the sheet before the slit (fewer).
-  const auto view_mesh = [](const tear::Cloth& cloth) {
-    tear::CrackMesh mesh;
-    mesh.node_rest = cloth.node_rest();
-    mesh.face_nodes = cloth.face_nodes();
-    mesh.topo = cloth.topology();
-    return mesh;
-  };
   tear::TearingOptions options;
   options.stretch = 1.3;
   options.radius = 0.05;
   tear::Cloth small(sheet(2000, true), tear::test::test_device());
-  const tear::CrackMesh before_cut = view_mesh(small);
+  const tear::CrackMesh before_cut = crack_mesh_of(small);
   tear::CutLine slit;
   slit.polyline = {{0.5, -0.1}, {0.5, 0.3}};
   small.cut({slit}, tear::CutOptions{});
-  const tear::CrackMesh slit_mesh = view_mesh(small);
+  const tear::CrackMesh slit_mesh = crack_mesh_of(small);
   tear::CutLine across;
   across.polyline = {{-0.1, 0.7}, {0.6, 0.65}};
   small.cut({across}, tear::CutOptions{});
-  const tear::CrackMesh cut_mesh = view_mesh(small);
+  const tear::CrackMesh cut_mesh = crack_mesh_of(small);
   for (const tear::CrackMesh* next : {&cut_mesh, &before_cut}) {
     tear::CrackField old(slit_mesh, options);
     tear::CrackMesh reused = old.release_mesh();

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "catch.h"
+#include "cloth/crack_growth.h"
 #include "remesh_checks.h"
 #include "tear/cloth.h"
 #include "tear/cut_script.h"
@@ -165,6 +166,15 @@ inline std::string notched_pull(const std::string& tearing) {
         {"box": {"min": [0.96, -1, -1], "max": [2, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 24, "offset": [0.15, 0, 0]}]}],
       "tearing": {)" +
          tearing + "}}}";
+}
+
+/// What crack growth reads of `cloth`: its rest shape, faces and topology.
+inline tear::CrackMesh crack_mesh_of(const tear::Cloth& cloth) {
+  tear::CrackMesh mesh;
+  mesh.node_rest = cloth.node_rest();
+  mesh.face_nodes = cloth.face_nodes();
+  mesh.topo = cloth.topology();
+  return mesh;
 }
 
 inline tear::Mesh sheet(index_t faces, bool irregular) {

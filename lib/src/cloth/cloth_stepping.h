@@ -14,6 +14,7 @@
 #include <optional>
 #include <system_error>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include <thrust/copy.h>
@@ -333,9 +334,8 @@ class StepJob {
   void start_view(const DeviceCloth<System>& cloth) {
     if (std::is_same<System, Omp>::value) return;
     const auto t0 = std::chrono::steady_clock::now();
-    std::optional<CrackField> old = take_spare();
-    CrackMesh mesh = old ? old->release_mesh() : CrackMesh{};
-    crack_mesh(cloth, mesh);
+    CrackMesh mesh;
+    std::optional<CrackField> old = read_for_view(cloth, mesh);
     const double read_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count();
     // The worker's OpenMP team: this thread's limit (`--threads`; a new thread starts with
     // OpenMP's) less the one this thread keeps, waiting for the device meanwhile.
@@ -362,9 +362,8 @@ class StepJob {
     if (view_build_.valid()) {
       b = view_build_.get();  // the build's error, if any, is thrown here
     } else {
-      std::optional<CrackField> old = take_spare();
-      CrackMesh mesh = old ? old->release_mesh() : CrackMesh{};
-      crack_mesh(cloth, mesh);
+      CrackMesh mesh;
+      std::optional<CrackField> old = read_for_view(cloth, mesh);
       b = build_view(std::move(mesh), options_.tearing, old ? &*old : nullptr);
       b.read_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count() - b.build_ms;
     }
@@ -376,10 +375,12 @@ class StepJob {
     view_ms_[2] = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t1).count();
   }
 
-  /// The view of the mesh before, whose memory the next view's build takes (none: empty).
-  std::optional<CrackField> take_spare() {
-    std::optional<CrackField> old = std::move(spare_);
-    spare_.reset();
+  /// The cloth read into `mesh` for a new view, in the memory of the view before's mesh; returns
+  /// that view (empty: none), whose other arrays the build takes.
+  std::optional<CrackField> read_for_view(const DeviceCloth<System>& cloth, CrackMesh& mesh) {
+    std::optional<CrackField> old = std::exchange(spare_, std::nullopt);
+    if (old) mesh = old->release_mesh();
+    crack_mesh(cloth, mesh);
     return old;
   }
 

@@ -138,7 +138,6 @@ void CrackField::reuse(CrackField& old) {
   take(border_torn_, old.border_torn_);
   take(border_edges_, old.border_edges_);
   take(edge_seam_, old.edge_seam_);
-  take(node_near_tip_, old.node_near_tip_);
   take(tips_, old.tips_);
   take(may_start_, old.may_start_);
   take(node_piece_, old.node_piece_);

@@ -176,7 +176,7 @@ class CrackField {
   std::vector<index_t> border_next_, border_prev_;  // [node_count] along the border, or -1
   std::vector<std::uint8_t> border_torn_;           // [node_count] the border edge to border_next_ is a cut or tear
   std::vector<index_t> border_edges_;
-  std::vector<std::uint8_t> edge_seam_, node_near_tip_;
+  std::vector<std::uint8_t> edge_seam_;
   std::vector<index_t> tips_;
   std::vector<std::uint8_t> may_start_;  // [face_count] !near_crack(centroid)
   std::vector<index_t> node_piece_;      // [node_count] the piece's lowest node
