@@ -67,6 +67,26 @@ TEST_CASE("crack growth: a slit's end is its one tip, and a uniform stretch smoo
   CHECK(field.plan(slack).cuts.empty());
 }
 
+TEST_CASE("crack growth: a crack that turns sharply has a tip at its end only, not at its corner", "[tearing]") {
+  // The corner's inner side is a reflex corner of the torn border (its rest angle sum passes 1.5π),
+  // but no slit ends there: run on from it, it would cut along the border the crack already has.
+  for (const bool jittered : {false, true}) {
+    CAPTURE(jittered);
+    tear::Cloth cloth(sheet(1800, jittered), tear::test::test_device());
+    tear::CutLine line;
+    line.polyline = {{0.5, -0.1}, {0.5, 0.4}, {0.7, 0.3}};
+    cloth.cut({line}, tear::CutOptions{});
+    tear::CrackMesh mesh = crack_mesh_of(cloth);
+    tear::TearingOptions options;
+    options.stretch = 1.1;
+    const tear::CrackField field(mesh, options);
+    REQUIRE(field.tips().size() == 1);
+    const index_t tip = field.tips()[0];
+    CHECK(mesh.node_rest[3 * tip] == Approx(0.7).margin(0.03));
+    CHECK(mesh.node_rest[3 * tip + 1] == Approx(0.3).margin(0.03));
+  }
+}
+
 TEST_CASE("crack growth: the backend's quick check never skips a substep that would tear, and skips some",
           "[tearing]") {
   // The slit sheet pulled apart across the slit by a smooth step of size d, around the tip only:

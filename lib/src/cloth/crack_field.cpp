@@ -304,6 +304,16 @@ void CrackField::build_grid() {
   }
 }
 
+bool CrackField::ends_slit(index_t n) const {
+  // Between two torn border edges, a tip is where a slit's two flanks meet: its neighbours along
+  // them are the two copies of one cut point, in one place in the rest shape. A corner of a torn
+  // border that bends back on itself (a crack's path where its cut snapped to the faces, or where it
+  // met the border) is no tip: run on from there, it would cut along the border it already has.
+  const index_t prev = border_prev_[n], next = border_next_[n];
+  if (!border_torn_[prev] || !border_torn_[n]) return true;  // the cloth's own border: a notch
+  return norm(sub(rest(prev), rest(next))) <= 1e-6 * norm(sub(rest(prev), rest(n)));
+}
+
 void CrackField::build_border() {
   const index_t nodes = m_.topo.node_count, faces = m_.topo.face_count;
   border_next_.assign(nodes, -1);
@@ -348,7 +358,7 @@ void CrackField::build_border() {
     }
   }
   for (index_t n = 0; n < nodes; ++n)
-    if (border_next_[n] >= 0 && border_prev_[n] >= 0 && node_angle[n] > 1.5 * pi) tips_.push_back(n);
+    if (border_next_[n] >= 0 && border_prev_[n] >= 0 && node_angle[n] > 1.5 * pi && ends_slit(n)) tips_.push_back(n);
   // Seams: inner edges whose two faces give a shared node different UVs.
   edge_seam_.assign(m_.topo.edge_count, 0);
   if (m_.corner_uv.empty() || options_.seam_strength == 1) return;

@@ -2,14 +2,15 @@
 // paths for the remesher's first half.
 //
 // A crack is a slit in the rest shape; its tips are the border nodes the cloth surrounds all but
-// fully (rest angle sum over 1.5π: the end of a slit). After a substep each tip looks at the
-// stretch smoothed over a disc of `radius` around it in the rest shape, not at the one face there:
-// when that passes the limit (times the fabric's strength there, along the thread or seam it runs
-// on) the tip advances by `step` across the smoothed principal direction, or joins the border or
-// crack it comes within `radius` of, unless that would cut off a piece under `min_piece`. Where no
-// tip is near, the most stretched place over `start` starts one crack, from the border when it is
-// within `radius`. Each advance is a straight rest-space cut, so the path does not follow the
-// triangles, and the same scene tears the same way at any resolution.
+// fully (rest angle sum over 1.5π: the end of a slit; between torn edges, only where the slit's two
+// flanks meet). After a substep each tip looks at the stretch smoothed over a disc of `radius`
+// around it in the rest shape, not at the one face there: when that passes the limit (times the
+// fabric's strength there, along the thread or seam it runs on) the tip advances by `step` across
+// the smoothed principal direction, or joins the border or crack it comes within `radius` of,
+// unless that would cut off a piece under `min_piece`. Where no tip is near, the most stretched
+// place over `start` starts one crack, from the border when it is within `radius`. Each advance is
+// a straight rest-space cut, so the path does not follow the triangles, and the same scene tears
+// the same way at any resolution.
 //
 // Example: a 1 m sheet with a slit from (0.5, 0) to (0.5, 0.25) pulled apart along x: the slit's
 // end is the one tip; the smoothed stretch there is across x, so the tip advances along +y by
@@ -119,7 +120,8 @@ class CrackField {
   /// face that may start one, kernels::start_ratio_of). Conservative: where it says no, `plan` cuts
   /// nothing.
   bool may_cut(const CrackProbes& probes, const std::vector<double>& sums, double start_ratio) const;
-  /// The crack tips: border nodes whose rest angle sum passes 1.5π.
+  /// The crack tips: border nodes whose rest angle sum passes 1.5π, and that end a slit where
+  /// both their border edges are torn (`ends_slit`).
   const std::vector<index_t>& tips() const { return tips_; }
   /// Each node's piece (faces joined through nodes): the piece's lowest node. For the tests.
   const std::vector<index_t>& node_pieces() const { return node_piece_; }
@@ -137,6 +139,8 @@ class CrackField {
   void build_grid();
   void build_pieces();
   void build_border();
+  /// Whether border node n, with a rest angle sum over 1.5π, ends a slit (a crack tip).
+  bool ends_slit(index_t n) const;
   template <class F>
   void faces_near(const Vec3& p, double r, F&& f) const;
   /// The path of `tip`'s advance this substep, if it advances; `ratio` its opening stretch over its
