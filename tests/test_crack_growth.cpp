@@ -10,6 +10,7 @@
 #include <numeric>
 #include <random>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "catch.h"
@@ -319,6 +320,31 @@ TEST_CASE("crack growth: a woven sheet tears along its weft, a weak seam opens",
     double worst = 0;
     for (const auto& p : t.boundary) worst = std::max(worst, std::abs(p[0] - 0.25));
     CHECK(worst <= 1e-4);
+  }
+}
+
+TEST_CASE("crack growth: a sheet pulled out by its corners, or hung from two of them, sheds no piece under min_piece",
+          "[tearing][quality]") {
+  // Cracks start at the held corners and run round them. Two tips of one crack that joined the
+  // border in one substep cut off a corner of 0.4 to 0.5 % of the sheet, and a crack started from
+  // the border next to one that had run cut a wedge between the two; min_piece ((2 radius)², 1 % of
+  // this sheet) bounds both.
+  const std::string pulled = R"({"version": 1, "frames": 48, "simulation": {"gravity": [0, 0, 0], "pins": [
+      {"box": {"min": [-1, -1, -1], "max": [0.05, 0.05, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 48, "offset": [-0.2, -0.2, 0]}]},
+      {"box": {"min": [0.95, -1, -1], "max": [2, 0.05, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 48, "offset": [0.2, -0.2, 0]}]},
+      {"box": {"min": [-1, 0.95, -1], "max": [0.05, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 48, "offset": [-0.2, 0.2, 0]}]},
+      {"box": {"min": [0.95, 0.95, -1], "max": [2, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 48, "offset": [0.2, 0.2, 0]}]}],
+    "tearing": {"stretch": 1.3}}})";
+  const std::string hung = R"({"version": 1, "frames": 12, "simulation": {"gravity": [0, -9.81, 0], "density": 3,
+    "pins": [{"box": {"min": [-1, 0.94, -1], "max": [0.06, 2, 1]}}, {"box": {"min": [0.94, 0.94, -1], "max": [2, 2, 1]}}],
+    "tearing": {"stretch": 1.15}}})";
+  for (const auto& [name, script, frames] :
+       {std::make_tuple("pulled by its corners", pulled, 48), std::make_tuple("hung from two corners", hung, 12)}) {
+    INFO(name);
+    const tear::Mesh input = sheet(2822, true);
+    const Torn t = run(input, script, frames);
+    CHECK(t.pieces >= 2);
+    CHECK(t.smallest_piece >= 0.01);
   }
 }
 

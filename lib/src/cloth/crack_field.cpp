@@ -488,6 +488,16 @@ bool CrackField::nearest_border(const Vec3& p, const Vec3* d, double reach, inde
   return found;
 }
 
+bool CrackField::on_one_border(index_t a, index_t b) const {
+  index_t n = a;
+  for (index_t i = 0; i < m_.topo.node_count; ++i) {
+    n = border_next_[n];
+    if (n < 0 || n == a) return false;
+    if (n == b) return true;
+  }
+  return false;
+}
+
 double CrackField::piece_cut_off(index_t tip, const Vec3& point, index_t edge) const {
   const index_t a = m_.topo.edge_nodes[2 * edge], b = m_.topo.edge_nodes[2 * edge + 1];
   // The side from `tip` along the border to the edge, closed through `point`; then the other side.

@@ -242,19 +242,28 @@ bool CrackField::start(const FaceTensors& T, const std::vector<double>& stretch,
   for (int k = 0; k < 3; ++k) size = std::max(size, norm(sub(rest(m_.face_nodes[3 * chosen + k]), p)));
   // An interior crack opens only where a crossing has a cut line on both sides: three crossings at
   // least, so the slit is some four faces long at any resolution. Near the border, it starts there.
-  const double step = std::max(options_.step_m(), 7 * size);
+  // A start that would cross a border (another crack; near a corner, the cloth's edge) is
+  // shortened until it does not: what it would cut off there is for its tips to decide, against
+  // `min_piece`, as they come near.
+  const Vec3& normal = face_normal_[chosen];
   Vec3 b;
   index_t edge = -1;
-  if (nearest_border(p, nullptr, options_.radius, -1, b, edge)) {
-    const Vec3 inward = unit(sub(p, b));
-    if (std::abs(dot(across, inward)) > 0.3) {
-      const Vec3 d = dot(across, inward) > 0 ? across : scale(across, -1);
-      path = {sub(b, scale(d, size)), add(b, scale(d, step))};
-      return true;
+  for (double step = std::max(options_.step_m(), 7 * size); step >= 3 * size; step *= 0.5) {
+    if (nearest_border(p, nullptr, options_.radius, -1, b, edge)) {
+      const Vec3 inward = unit(sub(p, b));
+      if (std::abs(dot(across, inward)) > 0.3) {
+        const Vec3 d = dot(across, inward) > 0 ? across : scale(across, -1);
+        path = {sub(b, scale(d, size)), add(b, scale(d, step))};
+        // An end within a face of a border would snap onto it: tested a face further on.
+        if (!crosses_border(-1, add(b, scale(d, 0.05 * size)), normal, add(path.back(), scale(d, size)))) return true;
+        continue;
+      }
     }
+    path = {sub(p, scale(across, step / 2)), add(p, scale(across, step / 2))};
+    if (!crosses_border(-1, sub(path.front(), scale(across, size)), normal, add(path.back(), scale(across, size))))
+      return true;
   }
-  path = {sub(p, scale(across, step / 2)), add(p, scale(across, step / 2))};
-  return true;
+  return false;
 }
 
 bool CrackField::make_tip(index_t n, Tip& out) const {
@@ -415,6 +424,7 @@ CrackPlan CrackField::plan(const std::vector<float>& node_pos) const {
   const FaceTensors T = face_tensors(node_pos);
   std::vector<std::vector<Vec3>> paths;
   std::vector<index_t> loaded;  // pieces with a tip free to run that bears most of its limit
+  std::vector<index_t> joining;  // the tips that join a border this substep
   for (index_t n : tips_) {
     if (static_cast<int>(paths.size()) >= options_.max_faces_per_step) break;
     Tip tip;
@@ -430,6 +440,12 @@ CrackPlan CrackField::plan(const std::vector<float>& node_pos) const {
     bool clear = true;
     for (const auto& other : paths)
       clear = clear && segment_distance(path.front(), path.back(), other.front(), other.back()) >= options_.radius;
+    // Nor do two joins of one crack's tips (tips on one border): each sees the crack as a border of
+    // its own, whose joining cuts nothing off, and together they could cut off a piece under
+    // `min_piece`. The later waits, and then measures what the first has made.
+    if (joined)
+      for (index_t other : joining) clear = clear && !on_one_border(n, other);
+    if (clear && joined) joining.push_back(n);
     if (clear) paths.push_back(std::move(path));
   }
   std::sort(loaded.begin(), loaded.end());

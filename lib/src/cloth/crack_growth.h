@@ -141,6 +141,8 @@ class CrackField {
   void build_border();
   /// Whether border node n, with a rest angle sum over 1.5π, ends a slit (a crack tip).
   bool ends_slit(index_t n) const;
+  /// Whether border nodes a and b lie on one border (one loop of border edges).
+  bool on_one_border(index_t a, index_t b) const;
   template <class F>
   void faces_near(const Vec3& p, double r, F&& f) const;
   /// The path of `tip`'s advance this substep, if it advances; `ratio` its opening stretch over its
