@@ -348,6 +348,20 @@ TEST_CASE("crack growth: a sheet pulled out by its corners, or hung from two of 
   }
 }
 
+TEST_CASE("crack growth: a ribbon smaller than (2 radius)² still tears in two", "[tearing]") {
+  // A 20 × 6 cm ribbon: its halves are under the radius's default min_piece, 0.01 m², and over its
+  // share of the ribbon's area.
+  tear::Mesh ribbon = strip_mesh(false);
+  for (float& x : ribbon.node_pos) x *= 0.2f;
+  const std::string script = R"({"version": 1, "frames": 24, "simulation": {"gravity": [0, 0, 0], "pins": [
+      {"box": {"min": [-1, -1, -1], "max": [0.008, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 24, "offset": [-0.05, 0, 0]}]},
+      {"box": {"min": [0.192, -1, -1], "max": [2, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 24, "offset": [0.05, 0, 0]}]}],
+    "tearing": {"stretch": 1.3}}})";
+  const Torn t = run(ribbon, script, 24);
+  CHECK(t.pieces == 2);
+  CHECK(t.smallest_piece >= 0.1);
+}
+
 TEST_CASE("crack growth: a cloth that moves freely does not tear", "[tearing]") {
   // Falling under gravity, nothing held: no stress, no crack, whatever the limit.
   const std::string script = R"({"version": 1, "frames": 12, "simulation": {"gravity": [0, -9.81, 0],

@@ -155,7 +155,8 @@ struct TearingOptions {
   double radius = 0.05;
   /// How far a tip advances per substep, metres (at least one face's width); 0: radius / 2.
   double step = 0;
-  /// The smallest piece a crack may cut off, square metres of rest area; < 0: (2 radius)² (default).
+  /// The smallest piece a crack may cut off, square metres of rest area; < 0 (the default): (2
+  /// radius)², or `default_min_piece_share` of the cloth's rest area where that is less.
   double min_piece = -1;
   /// Most crack advances and starts per substep, >= 1.
   int max_faces_per_step = 64;
@@ -182,7 +183,12 @@ struct TearingOptions {
   bool enabled() const { return stretch > 0; }
   double start_stretch() const { return start > 0 ? start : stretch; }
   double step_m() const { return step > 0 ? step : radius / 2; }
-  double min_piece_m2() const { return min_piece >= 0 ? min_piece : 4 * radius * radius; }
+  /// The smallest piece a crack may cut off from a cloth of `cloth_area` square metres of rest area.
+  double min_piece_m2(double cloth_area) const {
+    return min_piece >= 0 ? min_piece : std::min(4 * radius * radius, default_min_piece_share * cloth_area);
+  }
+  /// The default `min_piece` of a small cloth (a ribbon, a label): this share of its rest area.
+  static constexpr double default_min_piece_share = 0.02;
   /// `max_faces`, or its default for a cloth of `start_faces` faces when the simulation starts.
   std::int64_t face_budget(std::int64_t start_faces) const;
 };

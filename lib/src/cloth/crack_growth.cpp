@@ -103,7 +103,7 @@ bool CrackField::advance(const Tip& tip, const FaceTensors& T, std::vector<Vec3>
       ratio = 0;
       return false;
     }
-    if (piece_cut_off(tip.node, b, edge) < options_.min_piece_m2()) {
+    if (piece_cut_off(tip.node, b, edge) < options_.min_piece_m2(total_area_)) {
       ratio = 0;  // held: it cannot run on without cutting off a shred
       return false;
     }
