@@ -30,11 +30,7 @@
 using namespace tear::test::pulls;
 
 TEST_CASE("crack growth: a slit's end is its one tip, and a uniform stretch smooths to itself", "[tearing]") {
-  tear::Cloth cloth(sheet(800, true), tear::test::test_device());
-  tear::CutLine line;
-  line.polyline = {{0.5, -0.1}, {0.5, 0.25}};
-  cloth.cut({line}, tear::CutOptions{});
-  tear::CrackMesh mesh = crack_mesh_of(cloth);
+  const tear::CrackMesh mesh = slit_sheet(800, true, {{0.5, -0.1}, {0.5, 0.25}});
   tear::TearingOptions options;
   options.stretch = 1.1;
   const tear::CrackField field(mesh, options);
@@ -73,11 +69,7 @@ TEST_CASE("crack growth: a crack that turns sharply has a tip at its end only, n
   // but no slit ends there: run on from it, it would cut along the border the crack already has.
   for (const bool jittered : {false, true}) {
     CAPTURE(jittered);
-    tear::Cloth cloth(sheet(1800, jittered), tear::test::test_device());
-    tear::CutLine line;
-    line.polyline = {{0.5, -0.1}, {0.5, 0.4}, {0.7, 0.3}};
-    cloth.cut({line}, tear::CutOptions{});
-    tear::CrackMesh mesh = crack_mesh_of(cloth);
+    const tear::CrackMesh mesh = slit_sheet(1800, jittered, {{0.5, -0.1}, {0.5, 0.4}, {0.7, 0.3}});
     tear::TearingOptions options;
     options.stretch = 1.1;
     const tear::CrackField field(mesh, options);
@@ -93,11 +85,7 @@ TEST_CASE("crack growth: the backend's quick check never skips a substep that wo
   // The slit sheet pulled apart across the slit by a smooth step of size d, around the tip only:
   // the faces at the tip stretch far more than the disc ahead of it. For every d, where `plan` cuts,
   // `may_cut` (from the discs' sums and the start faces, as the backend computes them) says so.
-  tear::Cloth cloth(sheet(2000, true), tear::test::test_device());
-  tear::CutLine line;
-  line.polyline = {{0.5, -0.1}, {0.5, 0.25}};
-  cloth.cut({line}, tear::CutOptions{});
-  tear::CrackMesh mesh = crack_mesh_of(cloth);
+  tear::CrackMesh mesh = slit_sheet(2000, true, {{0.5, -0.1}, {0.5, 0.25}});
   for (const bool weave : {false, true}) {
     INFO((weave ? "woven" : "plain"));
     tear::TearingOptions options;

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "catch.h"
@@ -182,6 +183,15 @@ inline tear::Mesh sheet(index_t faces, bool irregular) {
   options.face_count = faces;
   options.irregular = irregular;
   return tear::make_sheet(options);
+}
+
+/// What crack growth reads of the sheet of `faces` faces cut along `polyline` (rest xy, metres).
+inline tear::CrackMesh slit_sheet(index_t faces, bool irregular, std::vector<std::array<double, 2>> polyline) {
+  tear::Cloth cloth(sheet(faces, irregular), tear::test::test_device());
+  tear::CutLine line;
+  line.polyline = std::move(polyline);
+  cloth.cut({line}, tear::CutOptions{});
+  return crack_mesh_of(cloth);
 }
 
 /// The mesh's median rest edge length.

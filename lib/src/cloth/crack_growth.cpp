@@ -246,22 +246,24 @@ bool CrackField::start(const FaceTensors& T, const std::vector<double>& stretch,
   // shortened until it does not: what it would cut off there is for its tips to decide, against
   // `min_piece`, as they come near.
   const Vec3& normal = face_normal_[chosen];
-  Vec3 b;
+  // From the border where it is near and the crack runs off it (along `d`), else a slit about p.
+  Vec3 b, d = across;
   index_t edge = -1;
+  bool from_border = false;
+  if (nearest_border(p, nullptr, options_.radius, -1, b, edge)) {
+    const Vec3 inward = unit(sub(p, b));
+    from_border = std::abs(dot(across, inward)) > 0.3;
+    if (from_border && dot(across, inward) < 0) d = scale(across, -1);
+  }
+  // An open end within a face of a border would snap onto it: each is tested a face further on.
   for (double step = std::max(options_.step_m(), 7 * size); step >= 3 * size; step *= 0.5) {
-    if (nearest_border(p, nullptr, options_.radius, -1, b, edge)) {
-      const Vec3 inward = unit(sub(p, b));
-      if (std::abs(dot(across, inward)) > 0.3) {
-        const Vec3 d = dot(across, inward) > 0 ? across : scale(across, -1);
-        path = {sub(b, scale(d, size)), add(b, scale(d, step))};
-        // An end within a face of a border would snap onto it: tested a face further on.
-        if (!crosses_border(-1, add(b, scale(d, 0.05 * size)), normal, add(path.back(), scale(d, size)))) return true;
-        continue;
-      }
+    if (from_border) {
+      path = {sub(b, scale(d, size)), add(b, scale(d, step))};
+      if (!crosses_border(-1, add(b, scale(d, 0.05 * size)), normal, add(path.back(), scale(d, size)))) return true;
+    } else {
+      path = {sub(p, scale(d, step / 2)), add(p, scale(d, step / 2))};
+      if (!crosses_border(-1, sub(path.front(), scale(d, size)), normal, add(path.back(), scale(d, size)))) return true;
     }
-    path = {sub(p, scale(across, step / 2)), add(p, scale(across, step / 2))};
-    if (!crosses_border(-1, sub(path.front(), scale(across, size)), normal, add(path.back(), scale(across, size))))
-      return true;
   }
   return false;
 }
