@@ -9,6 +9,7 @@
 #include <cstring>
 #include <numeric>
 #include <random>
+#include <set>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -333,6 +334,78 @@ TEST_CASE("crack growth: a sheet pulled out by its corners, or hung from two of 
     const Torn t = run(input, script, frames);
     CHECK(t.pieces >= 2);
     CHECK(t.smallest_piece >= 0.01);
+  }
+}
+
+TEST_CASE("crack growth: no cut runs into cloth a pin holds whole", "[tearing]") {
+  // A slit from the bottom towards a band the sheet is held by (0.3 <= y <= 0.5), stretched across
+  // it: the tip would run straight up into the band. The fabric there cannot stretch, so the plan
+  // cuts nothing inside it.
+  tear::CrackMesh mesh = slit_sheet(800, false, {{0.5, -0.1}, {0.5, 0.27}});
+  mesh.node_held.assign(mesh.node_rest.size() / 3, 0);
+  for (std::size_t n = 0; n < mesh.node_held.size(); ++n)
+    mesh.node_held[n] = mesh.node_rest[3 * n + 1] >= 0.3 - 1e-6 && mesh.node_rest[3 * n + 1] <= 0.5 + 1e-6;
+  tear::TearingOptions options;
+  options.stretch = 1.1;
+  const tear::CrackField field(mesh, options);
+  REQUIRE(field.tips().size() == 1);
+  // Stretched by 1.2 along x but for the band, which stays as it lies.
+  std::vector<float> pos = mesh.node_rest;
+  for (std::size_t n = 0; n < mesh.node_held.size(); ++n)
+    if (!mesh.node_held[n]) pos[3 * n] = 0.5f + 1.2f * (pos[3 * n] - 0.5f);
+  const tear::CrackPlan plan = field.plan(pos);
+  for (const tear::CutLine& line : plan.cuts) {
+    const auto& u = line.axis_u;
+    const auto& v = line.axis_v;
+    for (std::size_t i = 1; i < line.polyline.size(); ++i)
+      for (int k = 0; k <= 100; ++k) {
+        const double a = line.polyline[i - 1][0] + k / 100.0 * (line.polyline[i][0] - line.polyline[i - 1][0]);
+        const double b = line.polyline[i - 1][1] + k / 100.0 * (line.polyline[i][1] - line.polyline[i - 1][1]);
+        const double x = a * u[0] + b * v[0], y = a * u[1] + b * v[1];
+        CAPTURE(x, y);
+        CHECK_FALSE((y > 0.31 && y < 0.49 && x > 0 && x < 1));
+      }
+  }
+  // Without the band held, the same tip runs into it.
+  mesh.node_held.clear();
+  const tear::CrackField free_field(mesh, options);
+  const tear::CrackPlan free_plan = free_field.plan(pos);
+  REQUIRE(free_plan.cuts.size() == 1);
+  const auto& line = free_plan.cuts[0];
+  const double top = line.polyline.back()[0] * line.axis_u[1] + line.polyline.back()[1] * line.axis_v[1];
+  CHECK(top > 0.31);
+}
+
+TEST_CASE("crack growth: a sheet sheared between two clamps tears along them, and each clamp stays whole",
+          "[tearing][quality]") {
+  // The clamps are strips 4 cm wide at the sides, moved 0.4 m up and down. Cracks start and run
+  // along the clamps' edges; a crack near the sheet's border across a clamp ran to that border
+  // through the clamp and cut it into pieces, and a start from that border ran through it as well.
+  const std::string script = R"({"version": 1, "frames": 24, "simulation": {"gravity": [0, 0, 0], "pins": [
+      {"box": {"min": [-1, -1, -1], "max": [0.04, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 24, "offset": [-0.1, -0.4, 0]}]},
+      {"box": {"min": [0.96, -1, -1], "max": [2, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 24, "offset": [0.1, 0.4, 0]}]}],
+    "tearing": {"stretch": 1.3}}})";
+#if defined(TEAR_SANITIZED)
+  // The sanitizers look at the code, which one sheet goes through.
+  const bool sheets[] = {true};
+#else
+  const bool sheets[] = {false, true};
+#endif
+  for (const bool jittered : sheets) {
+    CAPTURE(jittered);
+    const Torn t = run(sheet(2822, jittered), script, 24);
+    CHECK(t.torn_length > 0.5);
+    CHECK(t.smallest_piece >= 0.01);
+    for (const double side : {0.0, 1.0}) {
+      CAPTURE(side);
+      std::set<index_t> pieces;
+      for (index_t f = 0; f < t.mesh.face_count(); ++f) {
+        bool held = true;
+        for (int k = 0; k < 3; ++k) held = held && std::abs(t.rest[3 * t.mesh.face_nodes[3 * f + k]] - side) < 0.04;
+        if (held) pieces.insert(t.piece[f]);
+      }
+      CHECK(pieces.size() == 1);
+    }
   }
 }
 

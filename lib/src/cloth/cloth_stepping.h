@@ -521,13 +521,15 @@ class StepJob {
                uv = uv_needed ? queue_read(c.corner_uv) : Part{0, 0}, strength = queue_read(c.face_strength),
                edge_nodes = queue_read(c.topo.edge_nodes), edge_faces = queue_read(c.topo.edge_faces),
                face_edges = queue_read(c.topo.face_edges), node_face_offset = queue_read(c.topo.node_face_offset),
-               node_faces = queue_read(c.topo.node_faces), torn = queue_read(corner_torn_);
+               node_faces = queue_read(c.topo.node_faces), torn = queue_read(corner_torn_),
+               held = queue_read(c.node_pinned);
     read_.wait();
     take_read(rest, mesh.node_rest);
     take_read(face_nodes, mesh.face_nodes);
     take_read(uv, mesh.corner_uv);
     take_read(strength, mesh.face_strength);
     take_read(torn, mesh.corner_torn);
+    take_read(held, mesh.node_held);
     Topology& t = mesh.topo;
     t.node_count = c.topo.node_count;
     t.face_count = faces;

@@ -103,14 +103,24 @@ bool CrackField::advance(const Tip& tip, const FaceTensors& T, std::vector<Vec3>
       ratio = 0;
       return false;
     }
-    if (piece_cut_off(tip.node, b, edge) < options_.min_piece_m2(total_area_)) {
-      ratio = 0;  // held: it cannot run on without cutting off a shred
-      return false;
-    }
     const Vec3 dir = unit(sub(b, tip.at));
-    path = {tip.at, add(b, scale(dir, 0.02 * longest))};  // just across: the far flank of a slit is there too
-    joined = true;
-    return true;
+    const Vec3 end = add(b, scale(dir, 0.02 * longest));  // just across: the far flank of a slit is there too
+    // Not across cloth a pin holds (a clamp between the tip and the border): the tip runs on
+    // along the clamp instead, below, to a border it can join.
+    if (!crosses_held(tip.at, end, tip.normal)) {
+      if (piece_cut_off(tip.node, b, edge) < options_.min_piece_m2(total_area_)) {
+        ratio = 0;  // held: it cannot run on without cutting off a shred
+        return false;
+      }
+      path = {tip.at, end};
+      joined = true;
+      return true;
+    }
+  }
+  // Into cloth a pin holds: the tip turns along it (turn_from_held), or holds.
+  if (crosses_held(tip.at, q, tip.normal)) {
+    ratio = turn_from_held(tip, S, limit, step, d, q);
+    if (ratio == 0) return false;
   }
   // A tip on the flank of its own slit end (a snapped cut leaves some) may aim across the slit
   // itself, which the joining above leaves out as its own border: held, the slit's end runs on.
@@ -123,26 +133,25 @@ bool CrackField::advance(const Tip& tip, const FaceTensors& T, std::vector<Vec3>
   return true;
 }
 
-bool CrackField::crosses_border(index_t tip, const Vec3& at, const Vec3& normal, const Vec3& q) const {
-  // In the plane of the tip: a proper crossing, each segment's ends strictly on both sides of the
-  // other's line. Only edges within a hundredth of the cut's length of it in space are tested (a
-  // curved cloth's far borders would project anywhere onto the plane).
-  const Vec3 b1 = any_tangent(normal), b2 = cross(normal, b1);
-  const auto flat = [&](const Vec3& p) { return std::array<double, 2>{dot(sub(p, at), b1), dot(sub(p, at), b2)}; };
-  const auto side = [](const std::array<double, 2>& o, const std::array<double, 2>& a, const std::array<double, 2>& b) {
-    return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
-  };
-  const double reach = norm(sub(q, at));
-  const std::array<double, 2> p0{0, 0}, p1 = flat(q);
-  for (const index_t e : border_edges_) {
-    const index_t a = m_.topo.edge_nodes[2 * e], b = m_.topo.edge_nodes[2 * e + 1];
-    if (a == tip || b == tip) continue;
-    if (segment_distance(at, q, rest(a), rest(b)) > 0.01 * reach) continue;
-    const std::array<double, 2> A = flat(rest(a)), B = flat(rest(b));
-    const double s0 = side(p0, p1, A), s1 = side(p0, p1, B), s2 = side(A, B, p0), s3 = side(A, B, p1);
-    if (((s0 > 0 && s1 < 0) || (s0 < 0 && s1 > 0)) && ((s2 > 0 && s3 < 0) || (s2 < 0 && s3 > 0))) return true;
-  }
-  return false;
+double CrackField::turn_from_held(const Tip& tip, const double* S, double limit, double step, Vec3& d, Vec3& q) const {
+  // By the least angle (15° at a time, up to a right angle either way) at which the stretch across
+  // still passes the limit, the larger of the two sides at that angle: a clamped cloth tears along
+  // the clamp's edge, and the clamp stays whole.
+  const Vec3 n = tip.normal, ahead = unit(in_plane(d, n)), side = cross(n, ahead);
+  double turned = 0;
+  for (int k = 1; k <= 6 && turned == 0; ++k)
+    for (const double sign : {1.0, -1.0}) {
+      const double angle = sign * k * pi / 12;
+      const Vec3 dir = unit(add(scale(ahead, std::cos(angle)), scale(side, std::sin(angle))));
+      const double r = std::sqrt(std::max(quad(S, cross(n, dir)), 0.0)) / limit;
+      const Vec3 to = add(tip.at, scale(dir, step));
+      if (r > 1 && r > turned && !crosses_held(tip.at, to, n)) {
+        turned = r;
+        d = dir;
+        q = to;
+      }
+    }
+  return turned;
 }
 
 bool CrackField::near_crack(const Vec3& p) const {
@@ -218,9 +227,13 @@ bool CrackField::seam_start(const FaceTensors& T, const std::vector<index_t>& lo
 
 bool CrackField::start(const FaceTensors& T, const std::vector<double>& stretch, const std::vector<index_t>& loaded,
                        std::vector<Vec3>& path) const {
-  double best = 1;
-  index_t chosen = -1;
-  Vec3 across{0, 0, 0};
+  // The candidates over the start limit, the most stretched (over its limit) first.
+  struct Candidate {
+    double ratio;
+    index_t face;
+    Vec3 across;
+  };
+  std::vector<Candidate> over;
   for (const index_t f : start_candidates(stretch, loaded)) {
     const Vec3& p = face_centroid_[f];
     if (!may_start_[f]) continue;  // near_crack(p), computed once per mesh
@@ -229,14 +242,21 @@ bool CrackField::start(const FaceTensors& T, const std::vector<double>& stretch,
     Vec3 r;
     const double ratio =
         std::sqrt(std::max(principal(S, face_normal_[f], r), 0.0)) / (options_.start_stretch() * strength);
-    if (ratio > best) {
-      best = ratio;
-      chosen = f;
-      across = unit(cross(face_normal_[f], r));
-    }
+    if (ratio > 1) over.push_back({ratio, f, unit(cross(face_normal_[f], r))});
   }
+  std::stable_sort(over.begin(), over.end(), [](const Candidate& a, const Candidate& b) { return a.ratio > b.ratio; });
+  double best = over.empty() ? 1 : over.front().ratio;
   if (seam_start(T, loaded, best, path)) return true;
-  if (chosen < 0) return false;
+  // The most stretched; the next where a clamp leaves it no way to start (start_path).
+  for (const Candidate& c : over) {
+    bool held = false;
+    if (start_path(c.face, c.across, path, held)) return true;
+    if (!held) break;
+  }
+  return false;
+}
+
+bool CrackField::start_path(index_t chosen, const Vec3& across, std::vector<Vec3>& path, bool& held) const {
   const Vec3 p = face_centroid_[chosen];
   double size = 0;
   for (int k = 0; k < 3; ++k) size = std::max(size, norm(sub(rest(m_.face_nodes[3 * chosen + k]), p)));
@@ -256,15 +276,28 @@ bool CrackField::start(const FaceTensors& T, const std::vector<double>& stretch,
     if (from_border && dot(across, inward) < 0) d = scale(across, -1);
   }
   // An open end within a face of a border would snap onto it: each is tested a face further on.
-  for (double step = std::max(options_.step_m(), 7 * size); step >= 3 * size; step *= 0.5) {
-    if (from_border) {
+  // A start from the border that would run into cloth a pin holds (a clamp between p and the
+  // border) opens as a slit about p instead.
+  const double longest_step = std::max(options_.step_m(), 7 * size);
+  held = false;
+  if (from_border)
+    for (double step = longest_step; step >= 3 * size; step *= 0.5) {
       path = {sub(b, scale(d, size)), add(b, scale(d, step))};
+      if (crosses_held(path.front(), path.back(), normal)) {
+        held = true;
+        continue;
+      }
       if (!crosses_border(-1, add(b, scale(d, 0.05 * size)), normal, add(path.back(), scale(d, size)))) return true;
-    } else {
+    }
+  if (!from_border || held)
+    for (double step = longest_step; step >= 3 * size; step *= 0.5) {
       path = {sub(p, scale(d, step / 2)), add(p, scale(d, step / 2))};
+      if (crosses_held(path.front(), path.back(), normal)) {
+        held = true;
+        continue;
+      }
       if (!crosses_border(-1, sub(path.front(), scale(d, size)), normal, add(path.back(), scale(d, size)))) return true;
     }
-  }
   return false;
 }
 
@@ -336,7 +369,9 @@ void CrackField::mark_may_start() {
   // within four radii of a tip and within a radius of a node of a torn border edge (each node once:
   // a border node ends two such edges). The queries run on the host's threads; each only clears
   // flags, so their order does not matter.
+  // No crack starts in cloth a pin holds whole.
   may_start_.assign(m_.topo.face_count, 1);
+  for (const index_t f : held_faces_) may_start_[f] = 0;
   std::vector<std::pair<index_t, double>> queries;
   for (index_t t : tips_) queries.emplace_back(t, 4 * options_.radius);
   std::vector<std::uint8_t> seen(m_.topo.node_count, 0);

@@ -10,7 +10,8 @@
 // unless that would cut off a piece under `min_piece`. Where no tip is near, the most stretched
 // place over `start` starts one crack, from the border when it is within `radius`. Each advance is
 // a straight rest-space cut, so the path does not follow the triangles, and the same scene tears
-// the same way at any resolution.
+// the same way at any resolution. No cut runs into cloth a pin holds whole (a clamp's fabric cannot
+// stretch): a tip that would turns along it, as a clamped cloth tears along the clamp's edge.
 //
 // Example: a 1 m sheet with a slit from (0.5, 0) to (0.5, 0.25) pulled apart along x: the slit's
 // end is the one tip; the smoothed stretch there is across x, so the tip advances along +y by
@@ -40,6 +41,8 @@ struct CrackMesh {
   std::vector<float> face_strength;  ///< [face_count] or empty (1)
   /// [face_count * 3] the edge from corner c is a cut or tear; empty: every border edge counts as one
   std::vector<std::uint8_t> corner_torn;
+  /// [node_count] nonzero where a pin holds the node; empty: none is held
+  std::vector<std::uint8_t> node_held;
   Topology topo;
 };
 
@@ -163,6 +166,9 @@ class CrackField {
   /// The path of a new crack, if one starts: not in the pieces `loaded` (sorted) whose tips bear load.
   bool start(const FaceTensors& tensors, const std::vector<double>& stretch, const std::vector<index_t>& loaded,
              std::vector<Vec3>& path) const;
+  /// The path of a crack started at face `face` across the stretch (`across`); false when there is
+  /// none, with `held` set where cloth a pin holds was in every way it could take.
+  bool start_path(index_t face, const Vec3& across, std::vector<Vec3>& path, bool& held) const;
   /// The nearest point of a border edge not within `exclude_walk` of node `from` along the border,
   /// ahead of `p` along `d` (or anywhere with `d` null), within `reach`; false when none.
   bool nearest_border(const Vec3& p, const Vec3* d, double reach, index_t from, Vec3& point, index_t& edge) const;
@@ -170,6 +176,13 @@ class CrackField {
   /// crosses a border edge that does not end at the tip: a cut across a crack closes a loop, and
   /// what lies between the two is cut off.
   bool crosses_border(index_t tip, const Vec3& at, const Vec3& normal, const Vec3& q) const;
+  /// Turns `tip`'s advance (direction `d`, end `q`, `step` long) off cloth a pin holds, where the
+  /// smoothed stretch `S` across the new direction still passes `limit`; returns its ratio over the
+  /// limit, 0 (d and q as they were) where no turn does.
+  double turn_from_held(const Tip& tip, const double* S, double limit, double step, Vec3& d, Vec3& q) const;
+  /// Whether the straight cut from `a` to `b` (in the plane of normal `normal`) runs into a face
+  /// whose three nodes a pin holds: that cloth cannot stretch, and a crack does not cross it.
+  bool crosses_held(const Vec3& a, const Vec3& b, const Vec3& normal) const;
   /// The smaller rest area of the two sides a cut from border node `tip` to border edge `edge`
   /// would leave, or a huge value when they are on different loops (nothing is cut off).
   double piece_cut_off(index_t tip, const Vec3& point, index_t edge) const;
@@ -184,7 +197,10 @@ class CrackField {
   std::vector<index_t> border_edges_;
   std::vector<std::uint8_t> edge_seam_;
   std::vector<index_t> tips_;
-  std::vector<std::uint8_t> may_start_;  // [face_count] !near_crack(centroid)
+  std::vector<std::uint8_t> may_start_;  // [face_count] !near_crack(centroid), and not held
+  std::vector<std::uint8_t> face_held_;  // [face_count] a pin holds its three nodes (empty: none is held)
+  std::vector<index_t> held_faces_;      // those faces
+  double longest_edge_ = 0;              // the longest rest edge, metres
   std::vector<index_t> node_piece_;      // [node_count] the piece's lowest node
   // Faces by grid cell of side `radius` over their rest centroids: sorted cell keys and faces.
   std::vector<std::int64_t> cell_key_;
