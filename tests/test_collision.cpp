@@ -236,8 +236,14 @@ TEST_CASE("collision: a sheet folded onto itself never passes through itself, it
   // one of about 2.5 cm edges, 1.6 cm thick, where the fabric's neighbours come within a thickness
   // of each other and keep a distance of their own (with the thickness alone, that fold held nodes
   // back and passed through itself).
+#if defined(TEAR_SANITIZED)
+  // The sanitizers look at the code, which the 800-face sheets go through (the neighbours' own
+  // distance included, at 3 cm): the 3,200-face fold takes minutes under them.
+  const auto [faces, thickness] = GENERATE(std::make_tuple(800, 0.006), std::make_tuple(800, 0.03));
+#else
   const auto [faces, thickness] = GENERATE(std::make_tuple(800, 0.006), std::make_tuple(800, 0.03),
                                            std::make_tuple(3200, 0.016));
+#endif
   INFO(faces << " faces, thickness " << thickness);
   const tear::Mesh mesh = fold_sheet(faces);
   index_t worst = 0;

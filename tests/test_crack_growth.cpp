@@ -386,12 +386,12 @@ TEST_CASE("crack growth: a sheet sheared between two clamps tears along them, an
       {"box": {"min": [0.96, -1, -1], "max": [2, 2, 1]}, "keys": [{"frame": 0, "offset": [0, 0, 0]}, {"frame": 24, "offset": [0.1, 0.4, 0]}]}],
     "tearing": {"stretch": 1.3}}})";
 #if defined(TEAR_SANITIZED)
-  // The sanitizers look at the code, which one sheet goes through.
-  const bool sheets[] = {true};
-#else
-  const bool sheets[] = {false, true};
+  // The sanitizers look at the code, which the test above goes through (a tip turned from a clamp
+  // and a start kept out of one); this scene takes about a minute under them.
+  WARN("not run under the sanitizers");
+  return;
 #endif
-  for (const bool jittered : sheets) {
+  for (const bool jittered : {false, true}) {
     CAPTURE(jittered);
     const Torn t = run(sheet(2822, jittered), script, 24);
     CHECK(t.torn_length > 0.5);
