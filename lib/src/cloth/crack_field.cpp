@@ -140,8 +140,6 @@ void CrackField::reuse(CrackField& old) {
   take(edge_seam_, old.edge_seam_);
   take(tips_, old.tips_);
   take(may_start_, old.may_start_);
-  take(face_held_, old.face_held_);
-  take(held_faces_, old.held_faces_);
   take(node_piece_, old.node_piece_);
   take(cell_key_, old.cell_key_);
   take(cell_face_, old.cell_face_);
@@ -183,22 +181,15 @@ void CrackField::build() {
   for (index_t e = 0; e < m_.topo.edge_count; ++e)
     length[e] = norm(sub(rest(m_.topo.edge_nodes[2 * e]), rest(m_.topo.edge_nodes[2 * e + 1])));
   double edges = 0;
-  for (const double l : length) edges += l;
-  radius_ = std::max(options_.radius, m_.topo.edge_count > 0 ? 0.5 * edges / m_.topo.edge_count : 0.0);
   longest_edge_ = 0;
-  for (const double l : length) longest_edge_ = std::max(longest_edge_, l);
-  // The faces a pin holds whole, where a crack does not run.
-  face_held_.clear();
-  held_faces_.clear();
-  if (!m_.node_held.empty()) {
-    face_held_.assign(faces, 0);
-    for (index_t f = 0; f < faces; ++f) {
-      const index_t* v = &m_.face_nodes[3 * std::size_t(f)];
-      face_held_[f] = m_.node_held[v[0]] && m_.node_held[v[1]] && m_.node_held[v[2]];
-      if (face_held_[f]) held_faces_.push_back(f);
-    }
-    if (held_faces_.empty()) face_held_.clear();
+  for (const double l : length) {
+    edges += l;
+    longest_edge_ = std::max(longest_edge_, l);
   }
+  radius_ = std::max(options_.radius, m_.topo.edge_count > 0 ? 0.5 * edges / m_.topo.edge_count : 0.0);
+  // Whether a pin holds any face whole (face_held), where a crack does not run.
+  any_held_ = false;
+  for (index_t f = 0; f < faces && !m_.node_held.empty() && !any_held_; ++f) any_held_ = face_held(f);
   lap(0);
   build_grid();
   lap(1);

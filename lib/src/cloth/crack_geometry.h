@@ -81,6 +81,19 @@ inline double principal(const double* S, const Vec3& n, Vec3& r) {
 
 constexpr double pi = 3.14159265358979323846;
 
+/// A point in a plane's own coordinates (a cut's tests project onto the plane of its start).
+using Flat = std::array<double, 2>;
+/// Twice the signed area of triangle o, a, b: positive where it turns left.
+inline double turn(const Flat& o, const Flat& a, const Flat& b) {
+  return (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0]);
+}
+/// Whether segments [p0, p1] and [a, b] cross properly: each one's ends strictly on both sides of
+/// the other's line.
+inline bool segments_cross(const Flat& p0, const Flat& p1, const Flat& a, const Flat& b) {
+  const double s0 = turn(p0, p1, a), s1 = turn(p0, p1, b), s2 = turn(a, b, p0), s3 = turn(a, b, p1);
+  return ((s0 > 0 && s1 < 0) || (s0 < 0 && s1 > 0)) && ((s2 > 0 && s3 < 0) || (s2 < 0 && s3 > 0));
+}
+
 }  // namespace crack
 
 struct CrackField::Tip {

@@ -371,7 +371,8 @@ void CrackField::mark_may_start() {
   // flags, so their order does not matter.
   // No crack starts in cloth a pin holds whole.
   may_start_.assign(m_.topo.face_count, 1);
-  for (const index_t f : held_faces_) may_start_[f] = 0;
+  if (any_held_)
+    for (index_t f = 0; f < m_.topo.face_count; ++f) may_start_[f] = !face_held(f);
   std::vector<std::pair<index_t, double>> queries;
   for (index_t t : tips_) queries.emplace_back(t, 4 * options_.radius);
   std::vector<std::uint8_t> seen(m_.topo.node_count, 0);

@@ -180,6 +180,11 @@ class CrackField {
   /// smoothed stretch `S` across the new direction still passes `limit`; returns its ratio over the
   /// limit, 0 (d and q as they were) where no turn does.
   double turn_from_held(const Tip& tip, const double* S, double limit, double step, Vec3& d, Vec3& q) const;
+  /// Whether a pin holds face f's three nodes.
+  bool face_held(index_t f) const {
+    const index_t* v = &m_.face_nodes[3 * std::size_t(f)];
+    return !m_.node_held.empty() && m_.node_held[v[0]] && m_.node_held[v[1]] && m_.node_held[v[2]];
+  }
   /// Whether the straight cut from `a` to `b` (in the plane of normal `normal`) runs into a face
   /// whose three nodes a pin holds: that cloth cannot stretch, and a crack does not cross it.
   bool crosses_held(const Vec3& a, const Vec3& b, const Vec3& normal) const;
@@ -198,8 +203,7 @@ class CrackField {
   std::vector<std::uint8_t> edge_seam_;
   std::vector<index_t> tips_;
   std::vector<std::uint8_t> may_start_;  // [face_count] !near_crack(centroid), and not held
-  std::vector<std::uint8_t> face_held_;  // [face_count] a pin holds its three nodes (empty: none is held)
-  std::vector<index_t> held_faces_;      // those faces
+  bool any_held_ = false;                // a pin holds some face whole (face_held)
   double longest_edge_ = 0;              // the longest rest edge, metres
   std::vector<index_t> node_piece_;      // [node_count] the piece's lowest node
   // Faces by grid cell of side `radius` over their rest centroids: sorted cell keys and faces.
